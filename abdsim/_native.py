@@ -1,0 +1,40 @@
+"""Loads the compiled core, making sure coal's shared library can be found.
+
+The extension's RPATH points at ``site-packages/cmeel.prefix/lib``, where the ``libcoal``
+wheel puts ``libcoal.so``. When abdsim and libcoal end up in different site-packages (a
+virtual environment over system packages, ``--user`` installs), that RPATH misses; we then
+pre-load libcoal from wherever it is on ``sys.path`` so the import still works.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import glob
+import os
+import sys
+
+
+def _preload_coal() -> bool:
+    for entry in sys.path:
+        pattern = os.path.join(entry or ".", "cmeel.prefix", "lib", "libcoal.so*")
+        for path in sorted(glob.glob(pattern)):
+            try:
+                ctypes.CDLL(path, mode=ctypes.RTLD_GLOBAL)
+                return True
+            except OSError:
+                continue
+    return False
+
+
+try:
+    from abdsim import _core
+except ImportError as first_error:  # pragma: no cover - depends on the install layout
+    if not _preload_coal():
+        raise ImportError(
+            "abdsim's compiled core could not be loaded and coal's shared library "
+            "(libcoal, from the 'libcoal' wheel) was not found on sys.path: "
+            f"{first_error}"
+        ) from first_error
+    from abdsim import _core
+
+__all__ = ["_core"]
