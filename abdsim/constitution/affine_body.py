@@ -46,7 +46,9 @@ class AffineBodyConstitution:
 
     def __init__(self, name: str = "OrthoPotential") -> None:
         if name not in CONSTITUTION_UIDS:
-            raise ValueError(f"unknown constitution {name!r}; choose one of {list(CONSTITUTION_UIDS)}")
+            raise ValueError(
+                f"unknown constitution {name!r}; choose one of {list(CONSTITUTION_UIDS)}"
+            )
         self.name = name
         self.uid = CONSTITUTION_UIDS[name]
 
@@ -147,7 +149,10 @@ class AffineBodyShell(_CodimConstitution):
     """Codim-2D affine body on a triangle mesh: a slab of full thickness 2r (v̄ = Σ Aᵢ·2r)."""
 
     def apply_to(  # type: ignore[override]
-        self, sc: SimplicialComplex, kappa: float, mass_density: float = 1e3,
+        self,
+        sc: SimplicialComplex,
+        kappa: float,
+        mass_density: float = 1e3,
         thickness: float = 0.01,
     ) -> None:
         """Set the spec's attributes plus ``is_codim = 1`` and vertex ``thickness = r``."""
@@ -165,7 +170,10 @@ class AffineBodyRod(_CodimConstitution):
     """Codim-1D affine body on an edge mesh: a cylinder of radius r (v̄ = Σ Lᵢ·πr²)."""
 
     def apply_to(  # type: ignore[override]
-        self, sc: SimplicialComplex, kappa: float, mass_density: float = 1e3,
+        self,
+        sc: SimplicialComplex,
+        kappa: float,
+        mass_density: float = 1e3,
         thickness: float = 0.01,
     ) -> None:
         """Set the spec's attributes plus ``is_codim = 1`` and vertex ``thickness = r``."""

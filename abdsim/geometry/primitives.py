@@ -55,7 +55,9 @@ def capsule(radius: float = 0.25, height: float = 1.0, count: int = 16) -> Simpl
     """A capsule along z (``height`` between the hemisphere centres), centred at the origin."""
     _positive("capsule radius", radius)
     _positive("capsule height", height)
-    return from_trimesh(trimesh.creation.capsule(height=height, radius=radius, count=[count, count]))
+    return from_trimesh(
+        trimesh.creation.capsule(height=height, radius=radius, count=[count, count])
+    )
 
 
 def _positive(what: str, value: float) -> None:

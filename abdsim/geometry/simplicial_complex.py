@@ -46,8 +46,11 @@ class SimplicialComplex:
             scale = max(float(np.ptp(v, axis=0).max()), 1e-300) ** 3
             if (vol <= 1e-14 * scale).any():
                 i = int(np.argmax(vol <= 1e-14 * scale))
-                kind = "zero volume (degenerate)" if abs(vol[i]) <= 1e-14 * scale else (
-                    "negative orientation (swap two vertices)")
+                kind = (
+                    "zero volume (degenerate)"
+                    if abs(vol[i]) <= 1e-14 * scale
+                    else ("negative orientation (swap two vertices)")
+                )
                 raise ValueError(f"tetrahedron {i} has {kind}")
             if len(tris) == 0:
                 tris = check.boundary_faces(tets)

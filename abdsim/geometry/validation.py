@@ -91,9 +91,10 @@ def check_nondegenerate_triangles(vertices: np.ndarray, triangles: np.ndarray) -
 
 def tet_signed_volumes(vertices: np.ndarray, tets: np.ndarray) -> np.ndarray:
     p = vertices[tets]
-    return np.einsum(
-        "ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])
-    ) / 6.0
+    return (
+        np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))
+        / 6.0
+    )
 
 
 def boundary_faces(tets: np.ndarray) -> np.ndarray:
