@@ -1,0 +1,107 @@
+"""Shape energies against central finite differences, invariance under rotations, PSD."""
+
+import numpy as np
+import pytest
+
+import abdsim
+
+KAPPA, VOLUME = 1e8, 1e-3
+NAMES = ["OrthoPotential", "ARAP"]
+
+
+def q_of(A, p=(0.1, -0.2, 0.3)):
+    return np.concatenate([np.asarray(p, float), A.reshape(-1)])  # rows of A after p
+
+
+def sample_As(rng, random_rotation):
+    near = [random_rotation(rng) @ (np.eye(3) + 1e-2 * rng.normal(size=(3, 3))) for _ in range(3)]
+    strong = [
+        random_rotation(rng) @ np.diag(rng.uniform(0.4, 1.8, 3)) @ random_rotation(rng)
+        + 0.3 * rng.normal(size=(3, 3))
+        for _ in range(3)
+    ]
+    return near + strong
+
+
+def fd_gradient(f, q, h):
+    g = np.zeros(12)
+    for i in range(12):
+        e = np.zeros(12)
+        e[i] = h
+        g[i] = (f(q + e) - f(q - e)) / (2 * h)
+    return g
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_gradient_matches_finite_differences(name, rng, random_rotation):
+    c = abdsim.AffineBodyConstitution(name)
+    for A in sample_As(rng, random_rotation):
+        q = q_of(A)
+        e = c.energy(q, KAPPA, VOLUME)
+        g_fd = fd_gradient(lambda x: c.energy(x, KAPPA, VOLUME).value, q, 1e-6)
+        scale = np.abs(e.gradient).max()
+        assert np.abs(e.gradient - g_fd).max() <= 1e-6 * scale + 1e-9
+        np.testing.assert_array_equal(e.gradient[:3], 0.0)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_hessian_matches_finite_differences(name, rng, random_rotation):
+    c = abdsim.AffineBodyConstitution(name)
+    for A in sample_As(rng, random_rotation):
+        q = q_of(A)
+        H = c.energy(q, KAPPA, VOLUME).hessian
+        h = 1e-6
+        H_fd = np.zeros((12, 12))
+        for i in range(12):
+            d = np.zeros(12)
+            d[i] = h
+            H_fd[:, i] = (
+                c.energy(q + d, KAPPA, VOLUME).gradient - c.energy(q - d, KAPPA, VOLUME).gradient
+            ) / (2 * h)
+        assert np.abs(H - H_fd).max() <= 1e-5 * np.abs(H).max()
+        np.testing.assert_allclose(H, H.T, atol=1e-9 * np.abs(H).max())
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_zero_at_any_rotation(name, rng, random_rotation):
+    c = abdsim.AffineBodyConstitution(name)
+    for _ in range(10):
+        e = c.energy(q_of(random_rotation(rng), p=rng.normal(size=3)), KAPPA, VOLUME)
+        assert abs(e.value) < 1e-20 * KAPPA
+        assert np.abs(e.gradient).max() < 1e-12 * KAPPA * VOLUME
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_projected_hessian_is_psd_and_exact_when_convex(name, rng, random_rotation):
+    c = abdsim.AffineBodyConstitution(name)
+    for A in sample_As(rng, random_rotation):
+        q = q_of(A)
+        Hp = c.energy(q, KAPPA, VOLUME, project_psd=True).hessian
+        lam = np.linalg.eigvalsh(Hp)
+        assert lam.min() >= -1e-9 * lam.max()
+        H = c.energy(q, KAPPA, VOLUME).hessian
+        lam_raw = np.linalg.eigvalsh(H)
+        if lam_raw.min() >= 0:
+            np.testing.assert_allclose(Hp, H, atol=1e-8 * lam.max())
+        else:
+            # projection only removes the negative part: Hp - H is PSD
+            assert np.linalg.eigvalsh(Hp - H).min() >= -1e-8 * lam.max()
+
+
+def test_values_against_definitions(rng, random_rotation):
+    A = np.diag([1.2, 0.9, 1.0])
+    ortho = abdsim.AffineBodyConstitution("OrthoPotential").energy(q_of(A), 2.0, 3.0)
+    assert ortho.value == pytest.approx(6.0 * ((1.44 - 1) ** 2 + (0.81 - 1) ** 2), rel=1e-14)
+    R = random_rotation(rng)
+    arap = abdsim.AffineBodyConstitution("ARAP").energy(q_of(R @ A), 2.0, 3.0)
+    assert arap.value == pytest.approx(6.0 * (0.2**2 + 0.1**2), rel=1e-12)
+
+
+def test_energy_bad_input():
+    c = abdsim.AffineBodyConstitution()
+    with pytest.raises(ValueError, match="12 entries"):
+        c.energy(np.zeros(9), 1.0, 1.0)
+    with pytest.raises(ValueError, match="NaN"):
+        c.energy(np.full(12, np.nan), 1.0, 1.0)
+    with pytest.raises(ValueError, match="unknown constitution"):
+        abdsim.AffineBodyConstitution("NeoHookean")
