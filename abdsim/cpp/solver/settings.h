@@ -23,7 +23,7 @@ struct SolverSettings {
   // every |Δp_k| <= tol_translation * h and every |ΔA_kl| <= tol_affine * h. The converged
   // step is still applied, so the error left is of second order in these numbers.
   double tol_translation = 0.01;  // m/s
-  double tol_affine = 0.01;       // 1/s
+  double tol_affine = 0.1;        // 1/s
   int max_newton_iterations = 50;
 
   // Backtracking (Armijo) line search on Π. The first trial step is clipped to

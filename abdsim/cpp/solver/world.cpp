@@ -16,8 +16,6 @@
 namespace abd {
 namespace {
 
-std::string body_str(int b) { return "body " + std::to_string(b); }
-
 void require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument(message);
 }
@@ -76,16 +74,16 @@ World::World(const SceneData& scene, const SolverSettings& settings)
   for (int b = 0; b < n_; ++b) {
     const BodyData& body = scene.bodies[b];
     require(ng == 0 || (body.geometry >= 0 && body.geometry < ng),
-            body_str(b) + ": geometry index " + std::to_string(body.geometry) + " out of range");
-    require(body.q.allFinite(), body_str(b) + ": initial state (transform) is not finite");
-    require(body.q_dot.allFinite(), body_str(b) + ": initial velocity is not finite");
+            describe(b) + ": geometry index " + std::to_string(body.geometry) + " out of range");
+    require(body.q.allFinite(), describe(b) + ": initial state (transform) is not finite");
+    require(body.q_dot.allFinite(), describe(b) + ": initial velocity is not finite");
     require(std::isfinite(body.kappa) && body.kappa >= 0.0,
-            body_str(b) + ": kappa must be finite and >= 0");
+            describe(b) + ": kappa must be finite and >= 0");
     require(std::isfinite(body.volume) && body.volume > 0.0,
-            body_str(b) + ": volume must be positive and finite");
+            describe(b) + ": volume must be positive and finite");
     require(std::isfinite(body.mass) && body.mass > 0.0 && body.mass_x_bar.allFinite() &&
                 body.mass_x_bar_x_bar.allFinite(),
-            body_str(b) + ": dyadic mass must be finite with abd_mass > 0");
+            describe(b) + ": dyadic mass must be finite with abd_mass > 0");
     DyadicMass dm;
     dm.m = body.mass;
     dm.m_x_bar = body.mass_x_bar;
@@ -94,7 +92,7 @@ World::World(const SceneData& scene, const SolverSettings& settings)
     const Mat3 central = dm.S - dm.m_x_bar * dm.m_x_bar.transpose() / dm.m;
     const Vec3 ev = Eigen::SelfAdjointEigenSolver<Mat3>(central, Eigen::EigenvaluesOnly).eigenvalues();
     require(ev[0] > 1e-12 * std::max(ev[2], 0.0) && ev[2] > 0.0,
-            body_str(b) + ": singular mass matrix (the central second moment S - m x̄ x̄ᵀ/m has "
+            describe(b) + ": singular mass matrix (the central second moment S - m x̄ x̄ᵀ/m has "
                           "eigenvalues " + std::to_string(ev[0]) + ", " + std::to_string(ev[1]) +
                           ", " + std::to_string(ev[2]) +
                           "); a flat or degenerate body needs a thickness");
@@ -108,6 +106,11 @@ World::World(const SceneData& scene, const SolverSettings& settings)
   kinematic_target_ = q_;
   q_prev_ = q_;
   q_dot_prev_ = q_dot_;
+}
+
+std::string World::describe(int body) const {
+  return "body " + std::to_string(body) + " (geometry " +
+         std::to_string(scene_.bodies[body].geometry) + ")";
 }
 
 int World::check_body(int body) const {
@@ -138,13 +141,14 @@ void World::set_state(const VecX& q, const VecX& q_dot) {
 
 void World::set_time(double t) {
   require(std::isfinite(t), "set_time: time must be finite");
-  time_ = t;
+  time_ = time_base_ = t;
+  step_base_ = step_count_;
 }
 
 void World::set_kinematic_target(int body, const Vec12& q_target) {
   check_body(body);
-  require(!fixed_[body], body_str(body) + " is fixed and cannot be driven kinematically");
-  require(q_target.allFinite(), body_str(body) + ": kinematic target is not finite");
+  require(!fixed_[body], describe(body) + " is fixed and cannot be driven kinematically");
+  require(q_target.allFinite(), describe(body) + ": kinematic target is not finite");
   kinematic_[body] = 1;
   kinematic_target_.segment<12>(12 * body) = q_target;
 }
@@ -245,7 +249,7 @@ const StepDiagnostics& World::step() {
   q_dot_ = std::move(q_dot_new);
   has_history_ = true;
   ++step_count_;
-  time_ += h;
+  time_ = time_base_ + static_cast<double>(step_count_ - step_base_) * h;
 
   d.time = time_;
   d.wall_time =
@@ -358,7 +362,7 @@ void World::solve_per_body(double c2, StepDiagnostics& d) {
     const BodyNewton& r = result[b];
     if (r.status == kConverged) continue;
     std::ostringstream msg;
-    msg << "Newton failed for " << body_str(b) << " at step " << step_count_ << " (t = " << time_
+    msg << "Newton failed for " << describe(b) << " at step " << step_count_ << " (t = " << time_
         << "): ";
     switch (r.status) {
       case kSingular:
@@ -515,7 +519,7 @@ void World::solve_global(double c2, StepDiagnostics& d) {
       const int bad = system_.solve_block_diagonal(rhs, dq_, threads_);
       if (bad >= 0)
         throw SolverError("Newton failed at step " + std::to_string(step_count_) + ": the 12x12 "
-                          "Newton matrix of " + body_str(bad) + " is not positive definite" +
+                          "Newton matrix of " + describe(bad) + " is not positive definite" +
                           (external_kinetic_[bad] ? " (external_kinetic = 1 and no energy term "
                                                     "holds it)"
                                                   : ""));

@@ -70,6 +70,7 @@ class World {
 
  private:
   int check_body(int body) const;
+  std::string describe(int body) const;  // "body b (geometry g)" for messages
   void compute_predictions(double c);
   void solve_per_body(double c2, StepDiagnostics& d);
   void solve_global(double c2, StepDiagnostics& d);
@@ -89,6 +90,9 @@ class World {
   bool has_history_ = false;
   double time_ = 0.0;
   long step_count_ = 0;
+  // time_ = time_base_ + (step_count_ - step_base_) * dt: no drift from summing dt.
+  double time_base_ = 0.0;
+  long step_base_ = 0;
 
   std::vector<std::uint8_t> fixed_, dynamic_, external_kinetic_, kinematic_;
   std::vector<std::uint8_t> constrained_;  // fixed or kinematic during this step
