@@ -161,11 +161,13 @@ void World::release_kinematic(int body) {
 // q̂, q̃, the constrained mask and the Newton predictor x_pred for this step (c = h, or
 // 2h/3 for BDF2).
 //
-// Predictor: q̃ moves A along Ȧ, off the rotations by O(h²|Ȧ|²), and a stiff shape energy
-// then spends Newton iterations just pulling it back. One Björck step,
-// A ← A (3I − AᵀA)/2, removes that error to second order; p is shifted so that the centre
-// of mass stays where q̃ puts it. Only applied near rigidity (|AᵀA − I| < 0.1), where the
-// iteration contracts. Only the start point changes: Newton still minimises Π.
+// Predictor: q̃ moves A along Ȧ, which for a rotating body leaves the rotations by
+// O(h²|Ȧ|²); a stiff shape energy then spends Newton iterations just pulling it back. We
+// write Ã = F A_t and replace the increment F by one Björck step F (3I − FᵀF)/2, which
+// removes F's departure from a rotation to second order while keeping A_t's own deformation;
+// p is shifted so that the centre of mass stays where q̃ puts it. Only applied to modest
+// increments (|FᵀF − I| < 0.1), where the iteration contracts. Only the start point
+// changes: Newton still minimises Π.
 void World::compute_predictions(double c) {
   const bool bdf2 = settings_.integrator == Integrator::kBDF2 && has_history_;
   q_hat_.resize(12 * n_);
@@ -200,9 +202,14 @@ void World::compute_predictions(double c) {
     Vec12 pred = q_tilde;
     if (!constrained_[b]) {
       const Mat3 A = affine_A(pred);
-      const Mat3 AtA = A.transpose() * A;
-      if ((AtA - Mat3::Identity()).cwiseAbs().maxCoeff() < 0.1) {
-        const Mat3 A_orth = 0.5 * A * (3.0 * Mat3::Identity() - AtA);
+      Mat3 At_inv;
+      double det = 0.0;
+      bool invertible = false;
+      affine_A(qt).computeInverseAndDetWithCheck(At_inv, det, invertible, 1e-12);
+      const Mat3 F = A * At_inv;
+      const Mat3 FtF = F.transpose() * F;
+      if (invertible && (FtF - Mat3::Identity()).cwiseAbs().maxCoeff() < 0.1) {
+        const Mat3 A_orth = 0.5 * F * (3.0 * Mat3::Identity() - FtF) * affine_A(qt);
         const Vec3 center = dyadic_[b].m_x_bar / dyadic_[b].m;
         pred = q_from(A_orth, affine_p(pred) - (A_orth - A) * center);
       }
