@@ -238,7 +238,7 @@ class World:
         return self.diagnostics
 
     def _apply_schedules(self) -> None:
-        t_end = self._core.time + self._scene.dt
+        t_end = self._core.next_time
         bodies = np.fromiter(self._schedules, dtype=np.int32, count=len(self._schedules))
         T = np.stack([np.asarray(f(t_end), dtype=np.float64) for f in self._schedules.values()])
         self.set_kinematic_targets(bodies, T)

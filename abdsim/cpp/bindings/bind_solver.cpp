@@ -279,6 +279,7 @@ void bind_world(py::module_& m) {
           py::arg("n") = 1, "Advances n steps; raises SolverError (state kept) on failure.")
       .def_property_readonly("num_bodies", &World::num_bodies)
       .def_property_readonly("time", &World::time)
+      .def_property_readonly("next_time", &World::next_time)
       .def("set_time", &World::set_time, py::arg("t"))
       .def_property_readonly("step_count", &World::step_count)
       .def_property_readonly("q", [](const World& w) { return as_rows(w.q()); },

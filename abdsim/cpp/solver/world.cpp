@@ -435,12 +435,13 @@ double World::total_energy(const VecX& x, double c2, std::vector<double>* parts)
 
 // Start of the Newton iteration: kinematic bodies at their targets, free bodies moved
 // towards q̃ as far as every term allows (the start must be feasible, e.g. intersection-free).
-void World::initial_guess() {
+void World::initial_guess(StepDiagnostics& d) {
   const StepContext ctx{scene_.dt, q_, q_dot_};
   for (const auto& t : terms_) t->begin_step(ctx);
   auto min_max_step = [&](const VecX& from, const VecX& dq) {
     double a = 1.0;
     for (const auto& t : terms_) a = std::min(a, t->max_step(from, dq));
+    d.min_term_max_step = std::min(d.min_term_max_step, a);
     return a;
   };
   VecX full = x_pred_ - q_;  // zero for fixed bodies
@@ -473,7 +474,7 @@ void World::initial_guess() {
 
 void World::solve_global(double c2, StepDiagnostics& d) {
   const double h = scene_.dt;
-  initial_guess();
+  initial_guess(d);
   grad_.resize(12 * n_);
   dq_.resize(12 * n_);
   std::vector<double> parts;

@@ -46,6 +46,10 @@ class World {
 
   int num_bodies() const { return n_; }
   double time() const { return time_; }
+  // Time at the end of the next step (what kinematic schedules are evaluated at).
+  double next_time() const {
+    return time_base_ + static_cast<double>(step_count_ - step_base_ + 1) * scene_.dt;
+  }
   long step_count() const { return step_count_; }
   const SceneData& scene() const { return scene_; }
   const SolverSettings& settings() const { return settings_; }
@@ -74,7 +78,7 @@ class World {
   void compute_predictions(double c);
   void solve_per_body(double c2, StepDiagnostics& d);
   void solve_global(double c2, StepDiagnostics& d);
-  void initial_guess();
+  void initial_guess(StepDiagnostics& d);
   double total_energy(const VecX& x, double c2, std::vector<double>* parts) const;
 
   SceneData scene_;
