@@ -168,54 +168,60 @@ void World::release_kinematic(int body) {
 // p is shifted so that the centre of mass stays where q̃ puts it. Only applied to modest
 // increments (|FᵀF − I| < 0.1), where the iteration contracts. Only the start point
 // changes: Newton still minimises Π.
-void World::compute_predictions(double c) {
-  const bool bdf2 = settings_.integrator == Integrator::kBDF2 && has_history_;
-  q_hat_.resize(12 * n_);
-  q_tilde_.resize(12 * n_);
-  x_pred_.resize(12 * n_);
-  constrained_.resize(n_);
+void World::predict_body(int b, double c, bool bdf2) {
   const Vec3 g_step = c * c * scene_.gravity;
-  parallel_for(n_, threads_, [&](int b) {
-    const auto qt = q_.segment<12>(12 * b);
-    auto q_hat = q_hat_.segment<12>(12 * b);
-    auto q_tilde = q_tilde_.segment<12>(12 * b);
-    constrained_[b] = fixed_[b] || kinematic_[b];
-    if (bdf2) {
-      q_hat = (4.0 * qt - q_prev_.segment<12>(12 * b)) / 3.0;
-    } else {
-      q_hat = qt;
+  const auto qt = q_.segment<12>(12 * b);
+  auto q_hat = q_hat_.segment<12>(12 * b);
+  auto q_tilde = q_tilde_.segment<12>(12 * b);
+  constrained_[b] = fixed_[b] || kinematic_[b];
+  if (bdf2) {
+    q_hat = (4.0 * qt - q_prev_.segment<12>(12 * b)) / 3.0;
+  } else {
+    q_hat = qt;
+  }
+  if (fixed_[b]) {
+    q_tilde = qt;
+  } else if (kinematic_[b]) {
+    q_tilde = kinematic_target_.segment<12>(12 * b);
+  } else if (dynamic_[b]) {
+    const Vec12 v_hat = bdf2 ? Vec12((4.0 * q_dot_.segment<12>(12 * b) -
+                                      q_dot_prev_.segment<12>(12 * b)) / 3.0)
+                             : Vec12(q_dot_.segment<12>(12 * b));
+    q_tilde = q_hat + c * v_hat;
+    q_tilde.head<3>() += g_step;
+  } else {  // quasi-static: no velocity term
+    q_tilde = qt;
+    q_tilde.head<3>() += g_step;
+  }
+  Vec12 pred = q_tilde;
+  if (!constrained_[b]) {
+    const Mat3 A = affine_A(pred);
+    Mat3 At_inv;
+    double det = 0.0;
+    bool invertible = false;
+    affine_A(qt).computeInverseAndDetWithCheck(At_inv, det, invertible, 1e-12);
+    const Mat3 F = A * At_inv;
+    const Mat3 FtF = F.transpose() * F;
+    if (invertible && (FtF - Mat3::Identity()).cwiseAbs().maxCoeff() < 0.1) {
+      const Mat3 A_orth = 0.5 * F * (3.0 * Mat3::Identity() - FtF) * affine_A(qt);
+      const Vec3 center = dyadic_[b].m_x_bar / dyadic_[b].m;
+      pred = q_from(A_orth, affine_p(pred) - (A_orth - A) * center);
     }
-    if (fixed_[b]) {
-      q_tilde = qt;
-    } else if (kinematic_[b]) {
-      q_tilde = kinematic_target_.segment<12>(12 * b);
-    } else if (dynamic_[b]) {
-      const Vec12 v_hat = bdf2 ? Vec12((4.0 * q_dot_.segment<12>(12 * b) -
-                                        q_dot_prev_.segment<12>(12 * b)) / 3.0)
-                               : Vec12(q_dot_.segment<12>(12 * b));
-      q_tilde = q_hat + c * v_hat;
-      q_tilde.head<3>() += g_step;
-    } else {  // quasi-static: no velocity term
-      q_tilde = qt;
-      q_tilde.head<3>() += g_step;
-    }
-    Vec12 pred = q_tilde;
-    if (!constrained_[b]) {
-      const Mat3 A = affine_A(pred);
-      Mat3 At_inv;
-      double det = 0.0;
-      bool invertible = false;
-      affine_A(qt).computeInverseAndDetWithCheck(At_inv, det, invertible, 1e-12);
-      const Mat3 F = A * At_inv;
-      const Mat3 FtF = F.transpose() * F;
-      if (invertible && (FtF - Mat3::Identity()).cwiseAbs().maxCoeff() < 0.1) {
-        const Mat3 A_orth = 0.5 * F * (3.0 * Mat3::Identity() - FtF) * affine_A(qt);
-        const Vec3 center = dyadic_[b].m_x_bar / dyadic_[b].m;
-        pred = q_from(A_orth, affine_p(pred) - (A_orth - A) * center);
-      }
-    }
-    x_pred_.segment<12>(12 * b) = pred;
-  });
+  }
+  x_pred_.segment<12>(12 * b) = pred;
+}
+
+// Velocity at the end of the step, from x_ (BDF1: (x − q_t)/h; BDF2: (x − q̂)/c).
+void World::finish_body(int b, double c) {
+  auto v = q_dot_new_.segment<12>(12 * b);
+  const auto x = x_.segment<12>(12 * b);
+  if (fixed_[b]) {
+    v.setZero();
+  } else if (dynamic_[b] || kinematic_[b]) {
+    v = (x - q_hat_.segment<12>(12 * b)) / c;
+  } else {
+    v = (x - q_.segment<12>(12 * b)) / scene_.dt;
+  }
 }
 
 const StepDiagnostics& World::step() {
@@ -224,36 +230,25 @@ const StepDiagnostics& World::step() {
   const bool bdf2 = settings_.integrator == Integrator::kBDF2 && has_history_;
   const double c = bdf2 ? 2.0 * h / 3.0 : h;
   const double c2 = c * c;
+  for (VecX* v : {&q_hat_, &q_tilde_, &x_pred_, &x_, &q_dot_new_}) v->resize(12 * n_);
+  constrained_.resize(n_);
 
   StepDiagnostics d;
   d.step = step_count_;
-  compute_predictions(c);
-
-  const bool fast = terms_.empty() && settings_.linear_solver == LinearSolverKind::kAuto;
-  if (fast) {
-    solve_per_body(c2, d);  // writes x_
+  if (terms_.empty() && settings_.linear_solver == LinearSolverKind::kAuto) {
+    step_per_body(c, bdf2, d);  // predictions, Newton and velocities in one parallel loop
   } else {
+    parallel_for(n_, threads_, [&](int b) { predict_body(b, c, bdf2); });
     solve_global(c2, d);
+    parallel_for(n_, threads_, [&](int b) { finish_body(b, c); });
   }
-  if (!x_.allFinite()) throw SolverError("the step produced a non-finite state");
+  if (!x_.allFinite() || !q_dot_new_.allFinite())
+    throw SolverError("the step produced a non-finite state");
 
-  // Velocities, history, time.
-  VecX q_dot_new(12 * n_);
-  parallel_for(n_, threads_, [&](int b) {
-    auto v = q_dot_new.segment<12>(12 * b);
-    const auto x = x_.segment<12>(12 * b);
-    if (fixed_[b]) {
-      v.setZero();
-    } else if (dynamic_[b] || kinematic_[b]) {
-      v = (x - q_hat_.segment<12>(12 * b)) / c;
-    } else {
-      v = (x - q_.segment<12>(12 * b)) / h;
-    }
-  });
   q_prev_.swap(q_);
   q_dot_prev_.swap(q_dot_);
-  q_ = x_;
-  q_dot_ = std::move(q_dot_new);
+  q_.swap(x_);
+  q_dot_.swap(q_dot_new_);
   has_history_ = true;
   ++step_count_;
   time_ = time_base_ + static_cast<double>(step_count_ - step_base_) * h;
@@ -276,28 +271,28 @@ void World::set_history_limit(std::size_t limit) {
 
 // ---------------------------------------------------------------------------------------
 // Fast path: no term couples bodies, so Π is a sum of per-body potentials and every body
-// runs its own Newton iteration (12x12 Cholesky, own line search), in parallel.
-void World::solve_per_body(double c2, StepDiagnostics& d) {
+// runs its own Newton iteration (12x12 Cholesky, own line search), in parallel: one parallel
+// loop per step; results do not depend on which thread ran which body.
+void World::step_per_body(double c, bool bdf2, StepDiagnostics& d) {
   d.linear_solver = "block_diagonal";
   const double h = scene_.dt;
+  const double c2 = c * c;
   const int max_it = settings_.max_newton_iterations;
   std::vector<BodyNewton> result(n_);
   // Smallest accepted alpha per iteration, per thread (min is exact in any order).
   std::vector<std::vector<double>> alphas(threads_, std::vector<double>(max_it, 2.0));
-  x_ = x_pred_;
 
-  parallel_for(n_, threads_, [&](int b) {
+  parallel_for_slot(n_, threads_, [&](int b, int slot) {
+    predict_body(b, c, bdf2);
     BodyNewton& r = result[b];
     if (constrained_[b]) {
       r.status = kConverged;
       r.shape = shape_.body_value(b, q_tilde_.segment<12>(12 * b));
+      x_.segment<12>(12 * b) = q_tilde_.segment<12>(12 * b);
+      finish_body(b, c);
       return;
     }
-#ifdef _OPENMP
-    std::vector<double>& my_alphas = alphas[omp_get_thread_num() % threads_];
-#else
-    std::vector<double>& my_alphas = alphas[0];
-#endif
+    std::vector<double>& my_alphas = alphas[slot];
     const DyadicMass& dm = dyadic_[b];
     const bool kinetic = !external_kinetic_[b];
     const Vec12 qt = q_tilde_.segment<12>(12 * b);
@@ -362,6 +357,7 @@ void World::solve_per_body(double c2, StepDiagnostics& d) {
     }
     if (r.status == kRunning) r.status = kMaxIterations;
     x_.segment<12>(12 * b) = x;
+    finish_body(b, c);
   });
 
   // Report the first failing body (lowest index: the same whatever the thread count).
@@ -402,8 +398,10 @@ void World::solve_per_body(double c2, StepDiagnostics& d) {
     d.step_affine = std::max(d.step_affine, r.step_affine);
     d.residual = std::max(d.residual, r.residual);
   }
-  kinetic = deterministic_sum(n_, threads_, [&](int b) { return result[b].kinetic; });
-  shape = deterministic_sum(n_, threads_, [&](int b) { return result[b].shape; });
+  for (const BodyNewton& r : result) {
+    kinetic += r.kinetic;
+    shape += r.shape;
+  }
   for (int it = 0; it < d.newton_iterations; ++it) {
     double a = 2.0;
     for (const auto& t : alphas) a = std::min(a, t[it]);

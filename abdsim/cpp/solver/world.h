@@ -75,8 +75,9 @@ class World {
  private:
   int check_body(int body) const;
   std::string describe(int body) const;  // "body b (geometry g)" for messages
-  void compute_predictions(double c);
-  void solve_per_body(double c2, StepDiagnostics& d);
+  void predict_body(int b, double c, bool bdf2);
+  void finish_body(int b, double c);
+  void step_per_body(double c, bool bdf2, StepDiagnostics& d);
   void solve_global(double c2, StepDiagnostics& d);
   void initial_guess(StepDiagnostics& d);
   double total_energy(const VecX& x, double c2, std::vector<double>* parts) const;
@@ -104,8 +105,8 @@ class World {
 
   // Per-step scratch.
   VecX q_hat_, q_tilde_;
-  VecX x_pred_;  // where Newton heads first: q̃ with A re-orthogonalised (see compute_predictions)
-  VecX x_, grad_, dq_, trial_;
+  VecX x_pred_;  // where Newton heads first: q̃ with A re-orthogonalised (see predict_body)
+  VecX x_, grad_, dq_, trial_, q_dot_new_;
   BlockSystem system_;
   std::vector<BodyBlock> blocks_;
   StepDiagnostics diag_;
