@@ -114,9 +114,10 @@ def main() -> None:
         model, data = mujoco_model(n)
         mujoco.mj_step(model, data, 2)
         mj_rate = best_rate(lambda k, m=model, dd=data: mujoco.mj_step(m, dd, k), steps, repeats)
+        ratio, ratio1 = rate / mj_rate, rate1 / mj_rate
         print(
             f"{n:>6} | {rate:>14.0f} {rate * n:>13.3g} {rate1 * n:>12.3g} | "
-            f"{mj_rate:>14.0f} {mj_rate * n:>13.3g} | {rate / mj_rate:>6.2f} {rate1 / mj_rate:>7.2f} | "
+            f"{mj_rate:>14.0f} {mj_rate * n:>13.3g} | {ratio:>6.2f} {ratio1:>7.2f} | "
             f"{d.total_body_iterations / n:>9.2f} {orth:>8.1e}"
         )
     print(
