@@ -397,8 +397,6 @@ void World::step_per_body(double c, bool bdf2, StepDiagnostics& d) {
     d.step_translation = std::max(d.step_translation, r.step_translation);
     d.step_affine = std::max(d.step_affine, r.step_affine);
     d.residual = std::max(d.residual, r.residual);
-  }
-  for (const BodyNewton& r : result) {
     kinetic += r.kinetic;
     shape += r.shape;
   }
@@ -433,8 +431,8 @@ double World::total_energy(const VecX& x, double c2, std::vector<double>* parts)
 
 // Start of the Newton iteration: kinematic bodies at their targets, free bodies moved
 // towards q̃ as far as every term allows (the start must be feasible, e.g. intersection-free).
-void World::initial_guess(StepDiagnostics& d) {
-  const StepContext ctx{scene_.dt, q_, q_dot_};
+void World::initial_guess(double c2, StepDiagnostics& d) {
+  const StepContext ctx{scene_.dt, q_, q_dot_, c2};
   for (const auto& t : terms_) t->begin_step(ctx);
   auto min_max_step = [&](const VecX& from, const VecX& dq) {
     double a = 1.0;
@@ -472,7 +470,7 @@ void World::initial_guess(StepDiagnostics& d) {
 
 void World::solve_global(double c2, StepDiagnostics& d) {
   const double h = scene_.dt;
-  initial_guess(d);
+  initial_guess(c2, d);
   grad_.resize(12 * n_);
   dq_.resize(12 * n_);
   std::vector<double> parts;

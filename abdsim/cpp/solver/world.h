@@ -79,7 +79,7 @@ class World {
   void finish_body(int b, double c);
   void step_per_body(double c, bool bdf2, StepDiagnostics& d);
   void solve_global(double c2, StepDiagnostics& d);
-  void initial_guess(StepDiagnostics& d);
+  void initial_guess(double c2, StepDiagnostics& d);
   double total_energy(const VecX& x, double c2, std::vector<double>* parts) const;
 
   SceneData scene_;
