@@ -247,3 +247,23 @@ def test_shape_energy_term_matches_the_energy_functions(tools, rng):
     q3 = np.concatenate([q_stretched] * 3)
     _, _, H_exact = _core.shape_energy(1, q_stretched, 1e8, volume[0], False)
     np.testing.assert_allclose(term.hessian(q3)[0][2], H_exact, rtol=1e-12, atol=1e-6)
+
+
+def test_kinematic_motion_into_a_bound_is_refused(tools):
+    """A scripted body cannot be moved through what an energy term's max_step forbids."""
+    sc = tools.make_box(extents=(0.2, 0.2, 0.1))
+    T = np.eye(4)
+    T[:3, 3] = [0.0, 0.0, 0.06]  # lowest vertices 1 cm above the floor
+    sc.transforms = T[None]
+    world = tools.world_of(sc, dt=H)
+    world.add_term(Floor(0, np.asarray(sc.positions)))
+    down = T.copy()
+    down[2, 3] = 0.055
+    world.set_kinematic_target(0, down)  # 5 mm down: allowed
+    world.step()
+    assert world.transforms()[0, 2, 3] == 0.055
+    down[2, 3] = 0.03  # through the floor
+    world.set_kinematic_target(0, down)
+    with pytest.raises(abdsim.SolverError, match="kinematic"):
+        world.step()
+    assert world.transforms()[0, 2, 3] == 0.055
