@@ -267,3 +267,21 @@ def test_kinematic_motion_into_a_bound_is_refused(tools):
     with pytest.raises(abdsim.SolverError, match="kinematic"):
         world.step()
     assert world.transforms()[0, 2, 3] == 0.055
+
+
+def test_external_kinetic_body_is_driven_by_its_energy_alone(tools):
+    """external_kinetic = 1: no inertia (and so no gravity through q̃); three zero-length
+    springs to a fixed twin pull it onto the twin within one step."""
+    sc = tools.make_box(2)
+    T = np.tile(np.eye(4), (2, 1, 1))
+    T[0, :3, 3] = [0.1, -0.05, 0.02]
+    sc.transforms = T
+    sc.instances["external_kinetic"] = np.array([1, 0])
+    sc.instances["is_fixed"] = np.array([0, 1])
+    world = tools.world_of(sc, dt=H, newton_tol_translation=1e-6, newton_tol_affine=1e-6)
+    for x_bar in ([0.2, 0.0, 0.0], [0.0, 0.1, 0.0], [0.0, 0.0, 0.05]):
+        world.add_term(Spring(0, 1, x_bar, x_bar, k=1e4))
+    world.step()
+    np.testing.assert_allclose(world.transforms()[0], np.eye(4), atol=1e-8)
+    assert world.diagnostics.linear_solver == "block_diagonal"  # couplings to a fixed body drop
+    np.testing.assert_allclose(world.velocities()[0, :3, 3], -T[0, :3, 3] / H, atol=1e-6)

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -507,18 +506,11 @@ void World::solve_global(double c2, StepDiagnostics& d) {
 
     const VecX rhs = -grad_;
     LinearSolverKind kind = settings_.linear_solver;
+    const bool per_body = kind == LinearSolverKind::kAuto && !system_.coupled();
     if (kind == LinearSolverKind::kAuto)
-      kind = !system_.coupled()              ? LinearSolverKind::kAuto
-             : 12 * n_ <= settings_.direct_max_dofs ? LinearSolverKind::kDirect
-                                                    : LinearSolverKind::kPCG;
-    if (kind == LinearSolverKind::kDirect) {
-      d.linear_solver = "direct";
-      system_.solve_direct(rhs, dq_);
-    } else if (kind == LinearSolverKind::kPCG) {
-      d.linear_solver = "pcg";
-      d.pcg_iterations += system_.solve_pcg(rhs, dq_, settings_.pcg_tolerance,
-                                            settings_.pcg_max_iterations, threads_);
-    } else {
+      kind = 12 * n_ <= settings_.direct_max_dofs ? LinearSolverKind::kDirect
+                                                  : LinearSolverKind::kPCG;
+    if (per_body) {
       d.linear_solver = "block_diagonal";
       const int bad = system_.solve_block_diagonal(rhs, dq_, threads_);
       if (bad >= 0)
@@ -527,6 +519,13 @@ void World::solve_global(double c2, StepDiagnostics& d) {
                           (external_kinetic_[bad] ? " (external_kinetic = 1 and no energy term "
                                                     "holds it)"
                                                   : ""));
+    } else if (kind == LinearSolverKind::kDirect) {
+      d.linear_solver = "direct";
+      system_.solve_direct(rhs, dq_);
+    } else if (kind == LinearSolverKind::kPCG) {
+      d.linear_solver = "pcg";
+      d.pcg_iterations += system_.solve_pcg(rhs, dq_, settings_.pcg_tolerance,
+                                            settings_.pcg_max_iterations, threads_);
     }
     if (!dq_.allFinite()) throw SolverError("the Newton direction is not finite");
 
