@@ -176,15 +176,21 @@ def test_internal_spring_conserves_linear_momentum(tools):
     np.testing.assert_allclose(momentum(), P0, atol=1e-9)
 
 
-def test_barrier_floor_never_crossed(tools):
-    """A box dropped on a barrier floor: the CCD bound keeps every vertex above the plane at
-    every step, and the box comes to rest within the barrier's range."""
+def box_above_floor(tools, height: float):
+    """A 0.2 x 0.2 x 0.1 box centred at `height` above a Floor barrier."""
     sc = tools.make_box(extents=(0.2, 0.2, 0.1))
     T = np.eye(4)
-    T[:3, 3] = [0.0, 0.0, 0.1]  # lowest vertices 5 cm above the floor
+    T[2, 3] = height
     sc.transforms = T[None]
     world = tools.world_of(sc, dt=H)
     world.add_term(Floor(0, np.asarray(sc.positions)))
+    return world, T
+
+
+def test_barrier_floor_never_crossed(tools):
+    """A box dropped on a barrier floor: the CCD bound keeps every vertex above the plane at
+    every step, and the box comes to rest within the barrier's range."""
+    world, _ = box_above_floor(tools, 0.1)  # lowest vertices 5 cm above the floor
     handle = world.scene.handles[0]
     limited = 0
     for _ in range(80):
@@ -251,12 +257,7 @@ def test_shape_energy_term_matches_the_energy_functions(tools, rng):
 
 def test_kinematic_motion_into_a_bound_is_refused(tools):
     """A scripted body cannot be moved through what an energy term's max_step forbids."""
-    sc = tools.make_box(extents=(0.2, 0.2, 0.1))
-    T = np.eye(4)
-    T[:3, 3] = [0.0, 0.0, 0.06]  # lowest vertices 1 cm above the floor
-    sc.transforms = T[None]
-    world = tools.world_of(sc, dt=H)
-    world.add_term(Floor(0, np.asarray(sc.positions)))
+    world, T = box_above_floor(tools, 0.06)  # lowest vertices 1 cm above the floor
     down = T.copy()
     down[2, 3] = 0.055
     world.set_kinematic_target(0, down)  # 5 mm down: allowed
