@@ -2,7 +2,6 @@
 // tables are indexed by the type's integer value (distance_types.h).
 #include "contact/distance/distance.h"
 
-#include "contact/distance/stencils.h"
 
 namespace abd::contact {
 namespace {
@@ -22,6 +21,12 @@ constexpr Piece kEdgeEdge[] = {
     {PL, {0, 2, 3}}, {PL, {1, 2, 3}}, {stencil::PieceKind::LineLine, {0, 1, 2, 3}}};
 }  // namespace
 
+const Piece& point_edge_piece(PointEdgeDistanceType type) { return kPointEdge[int(type)]; }
+const Piece& point_triangle_piece(PointTriangleDistanceType type) {
+  return kPointTriangle[int(type)];
+}
+const Piece& edge_edge_piece(EdgeEdgeDistanceType type) { return kEdgeEdge[int(type)]; }
+
 AffineDistance<2> point_point_distance_derivatives(const Vec3& p0, const Vec3& p1, int order) {
   return stencil::point_point<2>({p0, p1}, {0, 1}, order);
 }
@@ -29,21 +34,21 @@ AffineDistance<2> point_point_distance_derivatives(const Vec3& p0, const Vec3& p
 AffineDistance<3> point_edge_distance_derivatives(const Vec3& p, const Vec3& e0, const Vec3& e1,
                                                   PointEdgeDistanceType type, int order) {
   if (type == PointEdgeDistanceType::AUTO) type = point_edge_distance_type(p, e0, e1);
-  return stencil::evaluate_piece<3>({p, e0, e1}, kPointEdge[int(type)], order);
+  return stencil::evaluate_piece<3>({p, e0, e1}, point_edge_piece(type), order);
 }
 
 AffineDistance<4> point_triangle_distance_derivatives(const Vec3& p, const Vec3& t0,
                                                       const Vec3& t1, const Vec3& t2,
                                                       PointTriangleDistanceType type, int order) {
   if (type == PointTriangleDistanceType::AUTO) type = point_triangle_distance_type(p, t0, t1, t2);
-  return stencil::evaluate_piece<4>({p, t0, t1, t2}, kPointTriangle[int(type)], order);
+  return stencil::evaluate_piece<4>({p, t0, t1, t2}, point_triangle_piece(type), order);
 }
 
 AffineDistance<4> edge_edge_distance_derivatives(const Vec3& ea0, const Vec3& ea1,
                                                  const Vec3& eb0, const Vec3& eb1,
                                                  EdgeEdgeDistanceType type, int order) {
   if (type == EdgeEdgeDistanceType::AUTO) type = edge_edge_distance_type(ea0, ea1, eb0, eb1);
-  return stencil::evaluate_piece<4>({ea0, ea1, eb0, eb1}, kEdgeEdge[int(type)], order);
+  return stencil::evaluate_piece<4>({ea0, ea1, eb0, eb1}, edge_edge_piece(type), order);
 }
 
 double point_edge_distance(const Vec3& p, const Vec3& e0, const Vec3& e1) {

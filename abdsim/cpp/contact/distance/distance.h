@@ -7,6 +7,7 @@
 #pragma once
 #include "contact/distance/affine_distance.h"
 #include "contact/distance/distance_types.h"
+#include "contact/distance/stencils.h"
 
 namespace abd::contact {
 
@@ -22,6 +23,11 @@ AffineDistance<4> point_triangle_distance_derivatives(const Vec3& p, const Vec3&
 AffineDistance<4> edge_edge_distance_derivatives(const Vec3& ea0, const Vec3& ea1,
                                                  const Vec3& eb0, const Vec3& eb1,
                                                  EdgeEdgeDistanceType type, int order);
+
+// The smooth piece (stencil and vertex subset) that a distance type names.
+const stencil::Piece& point_edge_piece(PointEdgeDistanceType type);
+const stencil::Piece& point_triangle_piece(PointTriangleDistanceType type);
+const stencil::Piece& edge_edge_piece(EdgeEdgeDistanceType type);
 
 // Values only, classified automatically.
 inline double point_point_distance(const Vec3& p0, const Vec3& p1) { return (p0 - p1).squaredNorm(); }
