@@ -425,3 +425,24 @@ def test_bit_identical_across_runs_and_threads(tmp_path):
         outputs.append(out.stdout.strip())
     assert len(set(outputs)) == 1, outputs
     assert int(outputs[0].split()[1]) > 0
+
+
+def test_invalid_input_raises(scenes, contact):
+    V, F = scenes.box()
+    q = np.stack([scenes.q_of([0, 0, 0])])
+    with pytest.raises(ValueError, match="geometry 1 of 1"):
+        contact.IpcContactTerm([V], [F], [], [], [0], [1], q)
+    with pytest.raises(ValueError, match="a triangle refers to vertex 8"):
+        contact.IpcContactTerm([V], [np.array([[0, 1, 8]], np.int32)], [], [], [0], [0], q)
+    with pytest.raises(ValueError, match="thickness has 3 values for 8 vertices"):
+        contact.IpcContactTerm([V], [F], [], [np.ones(3)], [0], [0], q)
+    term = contact.IpcContactTerm([V], [F], [], [], [0], [0], q)
+    with pytest.raises(ValueError, match="expected 12 x 1"):
+        term.value(np.zeros(5))
+    s = contact.ContactSettings()
+    s.d_hat = 0.0
+    with pytest.raises(ValueError, match="d_hat"):
+        contact.IpcContactTerm([V], [F], [], [], [0], [0], q, settings=s)
+    # no bodies at all is a valid (empty) scene
+    empty = contact.IpcContactTerm([], [], [], [], [], [], np.zeros((0, 12)))
+    assert empty.value(np.zeros(0)) == 0.0 and empty.max_step(np.zeros(0), np.zeros(0)) == 1.0

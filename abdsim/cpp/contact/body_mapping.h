@@ -31,7 +31,7 @@ class BodyBlockAccumulator {
   void flush_into(std::vector<BodyBlock>& out);
 
  private:
-  Mat12& block(int row, int col);
+  size_t block_index(int row, int col);
   std::unordered_map<long long, size_t> index_;
   std::vector<BodyBlock> blocks_;
 };

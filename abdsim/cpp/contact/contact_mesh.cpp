@@ -59,12 +59,6 @@ ContactMesh ContactMesh::from_scene(const SceneData& scene) {
       m.vertex_body.push_back(b);
       r_max = std::max(r_max, r);
     }
-    for (const auto& e : local_edges(g)) {
-      check_index(e[0], nv, b, "an edge");
-      check_index(e[1], nv, b, "an edge");
-      m.edges.push_back({v0 + e[0], v0 + e[1]});
-      m.edge_body.push_back(b);
-    }
     for (Eigen::Index f = 0; f < g.triangles.rows(); ++f) {
       std::array<int, 3> t;
       for (int k = 0; k < 3; ++k) {
@@ -73,6 +67,12 @@ ContactMesh ContactMesh::from_scene(const SceneData& scene) {
       }
       m.faces.push_back(t);
       m.face_body.push_back(b);
+    }
+    for (const auto& e : local_edges(g)) {
+      check_index(e[0], nv, b, "an edge");
+      check_index(e[1], nv, b, "an edge");
+      m.edges.push_back({v0 + e[0], v0 + e[1]});
+      m.edge_body.push_back(b);
     }
     m.vertex_offset.push_back(int(m.rest.size()));
     m.edge_offset.push_back(int(m.edges.size()));

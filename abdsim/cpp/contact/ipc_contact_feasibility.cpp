@@ -65,7 +65,7 @@ double IpcContactTerm::max_step(const VecX& q, const VecX& dq) const {
   options.target = settings_.ccd_target;
   const int n = int(stencils.size());
   std::vector<double> toi(size_t(n), 1.0);
-  ABD_PARALLEL_FOR
+  ABD_PARALLEL_FOR_IF(n >= kMinParallelCcd)
   for (int i = 0; i < n; ++i)
     toi[size_t(i)] = candidate_toi(stencils[i], x0, x1, settings_.ground_height, options);
   double alpha = 1.0;

@@ -30,16 +30,17 @@ VecX stacked_q(const SceneData& scene) {
   return q;
 }
 
-// Evaluates eval(i) for i in [0, n) in parallel chunks, then hands each result to consume(i, r)
-// serially and in order: bounded memory, deterministic sums.
+// Evaluates eval(i) for i in [0, n) in chunks (in parallel when `parallel` and the chunk is
+// big enough), then hands each result to consume(i, r) serially and in order: bounded memory,
+// deterministic sums.
 template <class Eval, class Consume>
-void evaluate_in_order(int n, const Eval& eval, const Consume& consume) {
-  constexpr int kChunk = 2048;
+void evaluate_in_order(int n, bool parallel, const Eval& eval, const Consume& consume) {
+  constexpr int kChunk = 4096;
   std::vector<StencilEnergy> results;
   for (int begin = 0; begin < n; begin += kChunk) {
     const int end = std::min(n, begin + kChunk);
-    results.assign(size_t(end - begin), StencilEnergy{});
-    ABD_PARALLEL_FOR
+    results.resize(size_t(end - begin));
+    ABD_PARALLEL_FOR_IF(parallel && end - begin >= kMinParallelHessians)
     for (int i = begin; i < end; ++i) results[size_t(i - begin)] = eval(i);
     for (int i = begin; i < end; ++i) consume(i, results[size_t(i - begin)]);
   }
@@ -185,7 +186,8 @@ void IpcContactTerm::add_barrier_gradient(const ActiveSet& set, double kappa, do
                                           VecX& gradient) const {
   const BarrierParams p = barrier_params(kappa);
   evaluate_in_order(
-      int(set.stencils.size()), [&](int i) { return stencil_barrier(set.stencils[i], set.x, p, 1); },
+      int(set.stencils.size()), false,
+      [&](int i) { return stencil_barrier(set.stencils[i], set.x, p, 1); },
       [&](int i, const StencilEnergy& e) {
         const ContactStencil& s = set.stencils[i];
         add_stencil_gradient(mesh_, s.vertices, s.nv, e.grad, scale, gradient);
@@ -199,7 +201,8 @@ void IpcContactTerm::add_gradient(const VecX& q, double scale, VecX& gradient) c
   const ActiveSet& set = active_set_at(q, scratch);
   add_barrier_gradient(set, kappa_, scale, gradient);
   evaluate_in_order(
-      int(friction_.size()), [&](int i) { return friction_energy(friction_[i], set.x, friction_eps_, 1); },
+      int(friction_.size()), false,
+      [&](int i) { return friction_energy(friction_[i], set.x, friction_eps_, 1); },
       [&](int i, const StencilEnergy& e) {
         add_stencil_gradient(mesh_, friction_[i].vertices, friction_[i].nv, e.grad, scale, gradient);
       });
@@ -211,13 +214,15 @@ void IpcContactTerm::add_hessian(const VecX& q, double scale, std::vector<BodyBl
   const BarrierParams p = barrier_params(kappa_);
   BodyBlockAccumulator acc;
   evaluate_in_order(
-      int(set.stencils.size()), [&](int i) { return stencil_barrier(set.stencils[i], set.x, p, 2); },
+      int(set.stencils.size()), true,
+      [&](int i) { return stencil_barrier(set.stencils[i], set.x, p, 2); },
       [&](int i, const StencilEnergy& e) {
         const ContactStencil& s = set.stencils[i];
         acc.add_stencil(mesh_, s.vertices, s.nv, e.hess, scale);
       });
   evaluate_in_order(
-      int(friction_.size()), [&](int i) { return friction_energy(friction_[i], set.x, friction_eps_, 2); },
+      int(friction_.size()), false,
+      [&](int i) { return friction_energy(friction_[i], set.x, friction_eps_, 2); },
       [&](int i, const StencilEnergy& e) {
         acc.add_stencil(mesh_, friction_[i].vertices, friction_[i].nv, e.hess, scale);
       });
