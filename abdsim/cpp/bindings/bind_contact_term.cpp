@@ -2,7 +2,6 @@
 // used) without the Python Scene: per geometry rest vertices / triangles / edges / thickness,
 // per body its geometry index and state q.
 #include <pybind11/eigen.h>
-#include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -56,9 +55,11 @@ std::unique_ptr<IpcContactTerm> make_term(
     scene.geometries.push_back(geo);
   }
   const VecX qs = flat_q(q);
-  if (qs.size() != 12 * Eigen::Index(body_geometry.size()))
-    throw std::invalid_argument("q must hold 12 values per body");
-  for (size_t b = 0; b < body_geometry.size(); ++b) {
+  const size_t nb = body_geometry.size();
+  if (qs.size() != 12 * Eigen::Index(nb)) throw std::invalid_argument("q must hold 12 values per body");
+  if ((is_fixed && is_fixed->size() != nb) || (mass && mass->size() != nb))
+    throw std::invalid_argument("is_fixed and mass: one value per body");
+  for (size_t b = 0; b < nb; ++b) {
     BodyData body;
     body.geometry = body_geometry[b];
     body.q = qs.segment<12>(12 * b);
