@@ -1,8 +1,8 @@
 // IPC contact (barrier + lagged friction) between affine bodies and with an analytic ground,
 // as one EnergyTerm (solver/energy_term.h). Value, gradient and Hessian are the potential
 //     Σ_active κ m_k b(d_k²; d̂, ξ_k)  +  Σ_lagged μ_k λ_k f0(|u_k|; ε_v h)
-// (the solver scales by h²). Vertex-space Hessians are PSD-projected per stencil and mapped to
-// 12×12 body blocks J_iᵀ H J_j. Fixed bodies take part (they only do not move); pairs of two
+// (the solver scales by h²). Vertex-space Hessians are PSD-projected per stencil (unless
+// ContactSettings::project_hessian is false) and mapped to 12×12 body blocks J_iᵀ H J_j. Fixed bodies take part (they only do not move); pairs of two
 // fixed bodies are ignored, they can neither move apart nor be helped.
 //
 // Call order the solver should follow each step:
@@ -10,7 +10,10 @@
 //   [initialize_kappa(q, g)]   adaptive κ only: balance against the rest of ∇Π (IPC)
 //   repeat: update(q) → gradient/Hessian at q → max_step(q, dq) → line search on value(q')
 // value/add_gradient/add_hessian are exact at any q: at the q of the last update() they reuse
-// its active set, elsewhere they build one on the fly.
+// its active set, elsewhere they build one on the fly. With adaptive κ, update() may double κ
+// (IPC: the closest gap is below 1e-9 × bbox diagonal and shrinking), so re-evaluate the
+// energy at the accepted iterate after update(). max_step returns 0 when some pair already
+// starts within its thickness (an invalid state; check_initial says which).
 //
 // Not thread-safe for concurrent calls on one object: the broad phase's BVHs are a cache that
 // const methods refit.
