@@ -28,15 +28,26 @@ from abdsim.constitution import (
     to_rigid_body,
 )
 from abdsim.geometry import SimplicialComplex
-from abdsim.sim import BodyHandle, Scene, SceneSettings, SolverError, StepDiagnostics, World
+from abdsim.sim import (
+    GROUND,
+    BodyHandle,
+    ContactTable,
+    Scene,
+    SceneSettings,
+    SolverError,
+    StepDiagnostics,
+    World,
+)
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "GROUND",
     "AffineBodyConstitution",
     "AffineBodyRod",
     "AffineBodyShell",
     "BodyHandle",
+    "ContactTable",
     "DyadicMass",
     "RigidBody",
     "Scene",

@@ -1,6 +1,6 @@
 """Simulation: Scene (what to simulate, with which settings) and World (the stepper)."""
 
-from abdsim.sim.scene import BodyHandle, Scene
+from abdsim.sim.scene import GROUND, BodyHandle, ContactTable, Ground, Scene
 from abdsim.sim.settings import SceneSettings
 from abdsim.sim.world import (
     SolverError,
@@ -11,7 +11,10 @@ from abdsim.sim.world import (
 )
 
 __all__ = [
+    "GROUND",
     "BodyHandle",
+    "ContactTable",
+    "Ground",
     "Scene",
     "SceneSettings",
     "SolverError",

@@ -11,6 +11,62 @@ from abdsim.geometry.simplicial_complex import SimplicialComplex
 from abdsim.sim.settings import SceneSettings
 
 
+GROUND = "ground"  #: the ground's name in ``Scene.contact_table``
+
+
+@dataclass(frozen=True)
+class Ground:
+    """The half-space z >= height, a fixed obstacle (``Scene.add_ground``)."""
+
+    height: float = 0.0
+    friction: float | None = None  #: μ against the ground (None: the scene's ``friction``)
+
+
+class ContactTable:
+    """Which contact elements collide, and with which friction coefficient.
+
+    Every body carries a contact element id (``scene.add(sc, contact_element=k)``, default 0);
+    the ground is ``"ground"``. By default every pair collides with the scene's ``friction``
+    (and the ground's own friction, if ``add_ground`` gave one). Pairs of one element with
+    itself are allowed (bodies of the same element).
+    """
+
+    def __init__(self) -> None:
+        self._rules: dict[tuple, tuple[bool, float | None]] = {}
+
+    @staticmethod
+    def _key(a: int | str, b: int | str) -> tuple:
+        for e in (a, b):
+            if e != GROUND and not (isinstance(e, (int, np.integer)) and 0 <= int(e) < 65536):
+                raise ValueError(
+                    f"contact element must be an integer in [0, 65536) or {GROUND!r}, got {e!r}"
+                )
+        a = GROUND if a == GROUND else int(a)
+        b = GROUND if b == GROUND else int(b)
+        return tuple(sorted((a, b), key=lambda e: (e == GROUND, e if e != GROUND else 0)))
+
+    def set(
+        self, a: int | str, b: int | str, enabled: bool = True, friction: float | None = None
+    ) -> None:
+        """Whether elements a and b collide (``enabled``) and with which μ (None: default)."""
+        if friction is not None and not (np.isfinite(friction) and friction >= 0):
+            raise ValueError(f"friction must be finite and >= 0, got {friction!r}")
+        self._rules[self._key(a, b)] = (bool(enabled), None if friction is None else float(friction))
+
+    def get(self, a: int | str, b: int | str) -> tuple[bool, float | None]:
+        """(enabled, friction or None for the default) of a pair."""
+        return self._rules.get(self._key(a, b), (True, None))
+
+    def items(self):
+        return self._rules.items()
+
+    def __len__(self) -> int:
+        return len(self._rules)
+
+    def __repr__(self) -> str:
+        return f"<ContactTable {len(self._rules)} rule(s)>"
+
+
 @dataclass(frozen=True)
 class BodyHandle:
     """The bodies one ``Scene.add`` call created: every instance of one geometry.
@@ -23,6 +79,8 @@ class BodyHandle:
     start: int  #: first body index
     stop: int  #: one past the last body index
     sc: SimplicialComplex = field(repr=False, compare=False)
+    #: contact element id of each instance (``Scene.contact_table``)
+    contact_elements: tuple[int, ...] = field(default=(), repr=False, compare=False)
 
     @property
     def bodies(self) -> range:
@@ -76,6 +134,8 @@ class Scene:
         self.settings.validate()
         self._geometries: list[SimplicialComplex] = []
         self._handles: list[BodyHandle] = []
+        self._ground: Ground | None = None
+        self.contact_table = ContactTable()
 
     @property
     def dt(self) -> float:
@@ -99,15 +159,54 @@ class Scene:
     def num_bodies(self) -> int:
         return self._handles[-1].stop if self._handles else 0
 
-    def add(self, sc: SimplicialComplex) -> BodyHandle:
+    @property
+    def ground(self) -> Ground | None:
+        """The ground (``add_ground``), or None."""
+        return self._ground
+
+    def add_ground(self, height: float = 0.0, friction: float | None = None) -> Ground:
+        """Add the ground: the half-space z >= ``height`` (m), a fixed obstacle for contact.
+
+        Args:
+            height: ground height (m).
+            friction: μ between the ground and every body (None: the scene's ``friction``);
+                ``contact_table.set(k, "ground", ...)`` overrides it per element.
+
+        Raises:
+            ValueError: non-finite values, or a second ground at another height.
+        """
+        height = float(height)
+        if not np.isfinite(height):
+            raise ValueError(f"ground height must be finite, got {height!r}")
+        if friction is not None:
+            friction = float(friction)
+            if not (np.isfinite(friction) and friction >= 0):
+                raise ValueError(f"ground friction must be finite and >= 0, got {friction!r}")
+        if self._ground is not None and self._ground.height != height:
+            raise ValueError(
+                f"the scene already has a ground at z = {self._ground.height}; only one ground "
+                "is supported (use a fixed body for other obstacles)"
+            )
+        if self._ground is not None and friction is None:
+            friction = self._ground.friction
+        self._ground = Ground(height, friction)
+        return self._ground
+
+    def add(self, sc: SimplicialComplex, contact_element: int | Any = 0) -> BodyHandle:
         """Add every instance of ``sc`` as a body; returns their handle.
 
         ``sc`` must carry a constitution (``AffineBodyConstitution(...).apply_to(sc, kappa)``).
         Its attributes are read when a ``World`` is built, so they can still be edited
         (velocities, flags, transforms), but not its instance count.
 
+        Args:
+            sc: the geometry (every instance becomes a body).
+            contact_element: contact element id of the bodies (one int, or one per
+                instance), for ``contact_table``.
+
         Raises:
-            ValueError: no constitution, no instances, or ``sc`` already added.
+            ValueError: no constitution, no instances, ``sc`` already added, or bad
+                contact elements.
         """
         if not isinstance(sc, SimplicialComplex):
             raise TypeError(f"Scene.add expects a SimplicialComplex, got {type(sc).__name__}")
@@ -120,11 +219,35 @@ class Scene:
             raise ValueError("this SimplicialComplex was already added to the scene")
         if sc.instance_count < 1:
             raise ValueError("geometry has no instances")
+        try:
+            elements = np.broadcast_to(np.asarray(contact_element), (sc.instance_count,))
+        except ValueError:
+            raise ValueError(
+                f"contact_element: one id or {sc.instance_count} (one per instance), got "
+                f"{contact_element!r}"
+            ) from None
+        if not np.issubdtype(elements.dtype, np.integer) or (
+            elements.size and (elements.min() < 0 or elements.max() >= 65536)
+        ):
+            raise ValueError(
+                "contact_element must be an integer in [0, 65536) (or one per instance), got "
+                f"{contact_element!r}"
+            )
         start = self.num_bodies
-        handle = BodyHandle(len(self._geometries), start, start + sc.instance_count, sc)
+        handle = BodyHandle(
+            len(self._geometries),
+            start,
+            start + sc.instance_count,
+            sc,
+            tuple(int(e) for e in elements),
+        )
         self._geometries.append(sc)
         self._handles.append(handle)
         return handle
+
+    def contact_elements(self) -> np.ndarray:
+        """Contact element id of every body, (n_bodies,) int32."""
+        return np.array([e for h in self._handles for e in h.contact_elements], dtype=np.int32)
 
     def __repr__(self) -> str:
         return (

@@ -49,6 +49,27 @@ class SceneSettings:
         pcg_tolerance: relative residual at which PCG stops.
         pcg_max_iterations: PCG iterations before a step fails.
 
+    Contact (IPC, ABD_NOTES §7; see ``Scene.add_ground`` and ``Scene.contact_table``):
+        contact: enable contact between the bodies' surfaces (and the ground, if added). It is
+            built only when there is something to collide: two bodies with surfaces, a ground,
+            or a body with meta ``self_collision = 1``.
+        d_hat: barrier activation distance d̂ (m): surfaces closer than d̂ (beyond their
+            ``thickness``) repel; resting gaps end up in (0, d̂].
+        contact_stiffness: barrier stiffness κ (the term's κ = IPC's κ / h²); 0: IPC's
+            adaptive stiffness (balanced against the rest of Π whenever contact starts,
+            never lowered, doubled while a gap keeps closing below 1e-9 × scene size).
+        friction: default Coulomb coefficient μ of every pair (0: frictionless); per pair in
+            ``Scene.contact_table``, with the ground in ``Scene.add_ground``.
+        eps_v: friction smoothing speed ε_v (m/s): "static" friction creeps at a fraction of
+            this speed (lagged IPC friction).
+        kinematic_drive_stiffness: a kinematic body whose scripted move would cross contact
+            is, for that step, not placed at its target but driven there by
+            s (½ (x − target)ᵀ M (x − target) + h² Ψ), i.e. as the same body s times heavier
+            and stiffer heading for the target (s this ratio, M its mass matrix, Ψ its shape
+            energy; s = 1e4 at h = 0.01 s makes a 1 kg link a 1e8 N/m spring). It stops
+            short of what it would cross and pushes what it meets; the distance left is
+            ``StepDiagnostics.kinematic_lag``.
+
     Other:
         project_psd: project the shape-energy Hessian to PSD (leave on).
         num_threads: OpenMP threads (0: OpenMP's default). Results are bit-identical for any
@@ -72,7 +93,12 @@ class SceneSettings:
     project_psd: bool = True
     num_threads: int = 0
     history_limit: int = 10000
-    # Contact settings (d_hat, friction, contact_stiffness, eps_v, ...) belong here too.
+    contact: bool = True
+    d_hat: float = 1e-3
+    contact_stiffness: float = 0.0
+    friction: float = 0.5
+    eps_v: float = 1e-3
+    kinematic_drive_stiffness: float = 1e4
 
     @classmethod
     def field_names(cls) -> list[str]:
@@ -93,7 +119,14 @@ class SceneSettings:
             raise ValueError(
                 f"linear_solver must be one of {list(_LINEAR_SOLVERS)}, got {self.linear_solver!r}"
             )
-        positive = ("newton_tol_translation", "newton_tol_affine", "pcg_tolerance")
+        positive = (
+            "newton_tol_translation",
+            "newton_tol_affine",
+            "pcg_tolerance",
+            "d_hat",
+            "eps_v",
+            "kinematic_drive_stiffness",
+        )
         for name in positive:
             v = getattr(self, name)
             if not (math.isfinite(v) and v > 0):
@@ -105,6 +138,10 @@ class SceneSettings:
             raise ValueError(f"ccd_safety must be in (0, 1], got {self.ccd_safety!r}")
         if not 0 <= self.armijo_c < 1:
             raise ValueError(f"armijo_c must be in [0, 1), got {self.armijo_c!r}")
+        for name in ("contact_stiffness", "friction"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
+                raise ValueError(f"{name} must be finite and >= 0, got {v!r}")
         for name in ("direct_max_dofs", "num_threads", "history_limit"):
             if int(getattr(self, name)) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)!r}")
@@ -124,6 +161,7 @@ class SceneSettings:
         s.direct_max_dofs = int(self.direct_max_dofs)
         s.pcg_tolerance = float(self.pcg_tolerance)
         s.pcg_max_iterations = int(self.pcg_max_iterations)
+        s.kinematic_drive_stiffness = float(self.kinematic_drive_stiffness)
         s.project_psd = bool(self.project_psd)
         s.num_threads = int(self.num_threads)
         return s

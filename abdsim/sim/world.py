@@ -2,14 +2,15 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from abdsim._native import _core
 from abdsim.constitution.rigid_body import _dyadic_of
-from abdsim.sim.scene import BodyHandle, Scene
+from abdsim.sim.scene import GROUND, BodyHandle, Scene
 
 SolverError = _core.SolverError
 
@@ -33,6 +34,21 @@ class StepDiagnostics:
         line_search_alphas: accepted line-search step per Newton iteration (fast path: the
             smallest over bodies).
         min_term_max_step: smallest step bound (CCD) an energy term returned; 1 if none.
+            Also ``ccd_step_bound``.
+        coupled_bodies: bodies that needed the coupled Newton iterations (the others kept
+            their own free solution: nothing came near them).
+        islands: groups of coupled bodies solved (each with its own line search).
+        contact_pairs: active contact pairs at the end of the step: ``point_triangle``,
+            ``edge_edge``, ``point_ground``, and lagged ``friction`` pairs (zeros without
+            contact).
+        min_contact_distance: smallest gap d − ξ (m) among the active pairs (inf if nothing
+            is within d̂).
+        contact_stiffness: the barrier stiffness κ used (0 without contact).
+        driven_bodies: kinematic bodies driven by the stiff spring this step because their
+            scripted move would have crossed contact.
+        kinematic_lag: the largest distance (m) a vertex of a driven body was left from its
+            target (0 when every kinematic body reached it); ``kinematic_lag_body`` is that
+            body (-1 if none).
         energies: ``kinetic`` (½|q − q̃|²_M), ``shape`` and each added term (potentials,
             unscaled) and ``total`` (Π), at the end of the step.
         linear_solver: ``"block_diagonal"``, ``"direct"`` or ``"pcg"``.
@@ -54,6 +70,19 @@ class StepDiagnostics:
     linear_solver: str
     pcg_iterations: int
     wall_time: float
+    coupled_bodies: int = 0
+    islands: int = 0
+    contact_pairs: dict[str, int] = field(default_factory=dict)
+    min_contact_distance: float = math.inf
+    contact_stiffness: float = 0.0
+    driven_bodies: int = 0
+    kinematic_lag: float = 0.0
+    kinematic_lag_body: int = -1
+
+    @property
+    def ccd_step_bound(self) -> float:
+        """The smallest CCD step bound of the step (= ``min_term_max_step``)."""
+        return self.min_term_max_step
 
     @classmethod
     def from_core(cls, d: _core.StepDiagnostics) -> StepDiagnostics:
@@ -72,6 +101,19 @@ class StepDiagnostics:
             linear_solver=d.linear_solver,
             pcg_iterations=d.pcg_iterations,
             wall_time=d.wall_time,
+            coupled_bodies=d.coupled_bodies,
+            islands=d.islands,
+            contact_pairs={
+                "point_triangle": d.contact_point_triangle,
+                "edge_edge": d.contact_edge_edge,
+                "point_ground": d.contact_point_ground,
+                "friction": d.contact_friction,
+            },
+            min_contact_distance=d.min_contact_distance,
+            contact_stiffness=d.contact_kappa,
+            driven_bodies=d.driven_bodies,
+            kinematic_lag=d.kinematic_lag,
+            kinematic_lag_body=d.kinematic_lag_body,
         )
 
 
@@ -124,9 +166,15 @@ class World:
         scene: the scene; each geometry's attributes are read now, and its meta
             ``dof_offset`` / ``dof_count`` are filled.
 
+    With ``contact`` on (the default) and something to collide (two bodies with surfaces,
+    a ground, or a self-colliding body), IPC contact is built into the C++ world
+    (``core.enable_contact``): the initial configuration is checked, and every step keeps
+    every pair of surfaces apart (CCD-bounded Newton steps).
+
     Raises:
         ValueError: a geometry without constitution, non-finite transforms or velocities,
-            a singular mass matrix, a bad setting, an empty scene.
+            a singular mass matrix, a bad setting, an empty scene; with contact, surfaces
+            that intersect or are closer than their thickness (naming the two bodies).
     """
 
     def __init__(self, scene: Scene) -> None:
@@ -145,9 +193,66 @@ class World:
         self._core = _core.World(data, settings)
         self._core.set_history_limit(int(scene.settings.history_limit))
         self._schedules: dict[int, Schedule] = {}
+        self._contact = None
+        if scene.settings.contact and self._needs_contact(data, scene):
+            try:
+                self._contact = self._core.enable_contact(self._contact_settings(scene))
+            except ValueError as e:
+                raise ValueError(f"invalid initial configuration for contact: {e}") from None
         for h in self._handles:
             h.sc.meta["dof_offset"] = np.int32(12 * h.start)
             h.sc.meta["dof_count"] = np.int32(12 * len(h))
+
+    @staticmethod
+    def _needs_contact(data: _core.SceneData, scene: Scene) -> bool:
+        """Two bodies with surfaces (one of them free), a ground, or self-collision."""
+        with_surface, free = 0, 0
+        for b in range(data.num_bodies):
+            body = data.body(b)
+            g = data.geometry(body.geometry)
+            if len(g.triangles) == 0 and len(g.edges) == 0:
+                continue
+            with_surface += 1
+            free += not body.is_fixed
+            if g.self_collision and not body.is_fixed:
+                return True
+        if free == 0:
+            return False
+        return with_surface >= 2 or scene.ground is not None
+
+    @staticmethod
+    def _contact_settings(scene: Scene):
+        st = scene.settings
+        cs = _core.contact.ContactSettings()
+        cs.d_hat = float(st.d_hat)
+        cs.kappa = float(st.contact_stiffness)
+        cs.mu = float(st.friction)
+        cs.eps_v = float(st.eps_v)
+        ground = scene.ground
+        cs.ground = ground is not None
+        cs.ground_height = float(ground.height) if ground is not None else 0.0
+        elements = scene.contact_elements()
+        ids = set(elements.tolist())
+        for (a, b), _ in scene.contact_table.items():
+            ids.update(e for e in (a, b) if e != GROUND)
+        ground_id = max(ids, default=-1) + 1
+        cs.ground_contact_element = ground_id
+        cs.body_contact_element = elements.tolist()
+        ground_mu = None if ground is None else ground.friction
+        if len(scene.contact_table) or ground_mu is not None:
+            n = ground_id + 1
+            enabled = np.ones((n, n), dtype=np.int32)
+            mu = np.full((n, n), float(st.friction))
+            if ground_mu is not None:
+                mu[ground_id, :] = mu[:, ground_id] = ground_mu
+            for (a, b), (on, friction) in scene.contact_table.items():
+                i = ground_id if a == GROUND else a
+                j = ground_id if b == GROUND else b
+                enabled[i, j] = enabled[j, i] = int(on)
+                if friction is not None:
+                    mu[i, j] = mu[j, i] = friction
+            cs.set_contact_table_matrices(enabled, mu)
+        return cs
 
     @staticmethod
     def _add_geometry(data: _core.SceneData, h: BodyHandle) -> None:
@@ -351,6 +456,22 @@ class World:
         return bool(self._core.is_kinematic(int(body)))
 
     # -- energy terms and diagnostics ------------------------------------------------------
+    @property
+    def contact(self):
+        """The C++ contact term (``abdsim._core.contact.IpcContactTerm``), or None."""
+        return self._contact
+
+    def min_contact_distance(self, max_distance: float | None = None) -> float:
+        """Smallest gap (m) between contact surfaces (and to the ground) at the current state.
+
+        Only pairs closer than ``max_distance`` are looked at (None: d̂, the barrier's reach),
+        so the result is ``inf`` when nothing is that close, or without contact. Gaps are
+        measured beyond the surfaces' ``thickness``.
+        """
+        if max_distance is not None and not (max_distance > 0 and math.isfinite(max_distance)):
+            raise ValueError(f"max_distance must be positive and finite, got {max_distance!r}")
+        return float(self._core.min_contact_distance(-1.0 if max_distance is None else max_distance))
+
     def add_term(self, term: _core.EnergyTerm) -> None:
         """Add a potential (contact, joints, a ``_core.PythonEnergyTerm`` subclass...) to Π."""
         self._core.add_term(term)

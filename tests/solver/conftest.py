@@ -73,7 +73,9 @@ def random_rotations(rng: np.random.Generator, n: int) -> np.ndarray:
 
 
 def world_of(*geometries: abdsim.SimplicialComplex, **settings) -> abdsim.World:
-    """A World of the given geometries (settings as for abdsim.Scene)."""
+    """A World of the given geometries (settings as for abdsim.Scene). The solver tests
+    simulate without contact (their instances overlap) unless asked: contact=True."""
+    settings.setdefault("contact", False)
     scene = abdsim.Scene(**settings)
     for sc in geometries:
         scene.add(sc)

@@ -255,19 +255,27 @@ def test_shape_energy_term_matches_the_energy_functions(tools, rng):
     np.testing.assert_allclose(term.hessian(q3)[0][2], H_exact, rtol=1e-12, atol=1e-6)
 
 
-def test_kinematic_motion_into_a_bound_is_refused(tools):
-    """A scripted body cannot be moved through what an energy term's max_step forbids."""
+def test_kinematic_motion_into_a_bound_is_driven_not_forced(tools):
+    """A scripted move that an energy term's max_step forbids is not forced through: for that
+    step the body is driven towards its target by a stiff spring, stops short of the floor,
+    and the distance left is reported."""
     world, T = box_above_floor(tools, 0.06)  # lowest vertices 1 cm above the floor
+    handle = world.scene.handles[0]
     down = T.copy()
     down[2, 3] = 0.055
-    world.set_kinematic_target(0, down)  # 5 mm down: allowed
-    world.step()
+    world.set_kinematic_target(0, down)  # 5 mm down: allowed, exact
+    d = world.step()
     assert world.transforms()[0, 2, 3] == 0.055
-    down[2, 3] = 0.03  # through the floor
+    assert d.driven_bodies == 0 and d.kinematic_lag == 0
+    down[2, 3] = 0.03  # 2.5 cm below the floor
     world.set_kinematic_target(0, down)
-    with pytest.raises(abdsim.SolverError, match="kinematic"):
-        world.step()
-    assert world.transforms()[0, 2, 3] == 0.055
+    d = world.step()
+    z = world.vertices(handle)[0, :, 2]
+    assert 0 < z.min() < 1e-3  # pressed onto the floor, not through it
+    assert d.driven_bodies == 1 and d.kinematic_lag_body == 0
+    assert d.kinematic_lag == pytest.approx(world.transforms()[0, 2, 3] - 0.03, rel=1e-3)
+    assert "kinematic_drive" in d.energies
+    assert world.is_kinematic(0)
 
 
 def test_external_kinetic_body_is_driven_by_its_energy_alone(tools):

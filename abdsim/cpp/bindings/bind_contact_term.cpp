@@ -31,7 +31,7 @@ ContactRule to_rule(const py::handle& r) {
   return ContactRule{t[0].cast<bool>(), t[1].cast<double>()};
 }
 
-std::unique_ptr<IpcContactTerm> make_term(
+std::shared_ptr<IpcContactTerm> make_term(
     const std::vector<MatX3>& vertices, const std::vector<MatX3i>& triangles,
     const std::vector<MatX2i>& edges, const std::vector<VecX>& thickness,
     const std::vector<int>& self_collision, const std::vector<int>& body_geometry,
@@ -68,7 +68,7 @@ std::unique_ptr<IpcContactTerm> make_term(
     body.mass = mass ? (*mass)[b] : 1.0;
     scene.bodies.push_back(body);
   }
-  return std::make_unique<IpcContactTerm>(scene, settings.value_or(ContactSettings{}));
+  return std::make_shared<IpcContactTerm>(scene, settings.value_or(ContactSettings{}));
 }
 
 py::dict active_pairs(const IpcContactTerm& t) {
@@ -144,7 +144,7 @@ void bind_settings(py::module_& m) {
 void bind_contact_term(py::module_& m) {
   bind_settings(m);
   using Q = const py::array_t<double, py::array::c_style | py::array::forcecast>&;
-  py::class_<IpcContactTerm>(m, "IpcContactTerm",
+  py::class_<IpcContactTerm, EnergyTerm, std::shared_ptr<IpcContactTerm>>(m, "IpcContactTerm",
                              "IPC barrier + lagged friction between affine bodies and the ground.")
       .def(py::init(&make_term), py::arg("vertices"), py::arg("triangles"), py::arg("edges"),
            py::arg("thickness"), py::arg("self_collision"), py::arg("body_geometry"),

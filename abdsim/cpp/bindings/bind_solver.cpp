@@ -241,6 +241,7 @@ void bind_settings(py::module_& m) {
       .def_readwrite("direct_max_dofs", &SolverSettings::direct_max_dofs)
       .def_readwrite("pcg_tolerance", &SolverSettings::pcg_tolerance)
       .def_readwrite("pcg_max_iterations", &SolverSettings::pcg_max_iterations)
+      .def_readwrite("kinematic_drive_stiffness", &SolverSettings::kinematic_drive_stiffness)
       .def_readwrite("project_psd", &SolverSettings::project_psd)
       .def_readwrite("num_threads", &SolverSettings::num_threads);
 
@@ -256,6 +257,17 @@ void bind_settings(py::module_& m) {
       .def_readonly("line_search_alphas", &StepDiagnostics::line_search_alphas)
       .def_readonly("min_term_max_step", &StepDiagnostics::min_term_max_step)
       .def_readonly("energies", &StepDiagnostics::energies)
+      .def_readonly("coupled_bodies", &StepDiagnostics::coupled_bodies)
+      .def_readonly("islands", &StepDiagnostics::islands)
+      .def_readonly("contact_point_triangle", &StepDiagnostics::contact_point_triangle)
+      .def_readonly("contact_edge_edge", &StepDiagnostics::contact_edge_edge)
+      .def_readonly("contact_point_ground", &StepDiagnostics::contact_point_ground)
+      .def_readonly("contact_friction", &StepDiagnostics::contact_friction)
+      .def_readonly("min_contact_distance", &StepDiagnostics::min_contact_distance)
+      .def_readonly("contact_kappa", &StepDiagnostics::contact_kappa)
+      .def_readonly("driven_bodies", &StepDiagnostics::driven_bodies)
+      .def_readonly("kinematic_lag", &StepDiagnostics::kinematic_lag)
+      .def_readonly("kinematic_lag_body", &StepDiagnostics::kinematic_lag_body)
       .def_readonly("linear_solver", &StepDiagnostics::linear_solver)
       .def_readonly("pcg_iterations", &StepDiagnostics::pcg_iterations)
       .def_readonly("wall_time", &StepDiagnostics::wall_time);
@@ -269,6 +281,21 @@ void bind_world(py::module_& m) {
           "add_term", [](World& w, std::shared_ptr<EnergyTerm> t) { w.add_term(std::move(t)); },
           py::arg("term"), py::keep_alive<1, 2>())
       .def_property_readonly("terms", &World::terms)
+      .def(
+          "enable_contact",
+          [](World& w, const ContactSettings& settings) {
+            w.enable_contact(settings);
+            return w.contact();
+          },
+          py::arg("settings"),
+          "Builds the IPC contact term from the scene, checks the current state (ValueError "
+          "naming the bodies if surfaces intersect or are closer than their thickness), adds "
+          "it; returns the term.")
+      .def_property_readonly("contact", [](const World& w) { return w.contact(); },
+                             "The contact term (None without contact).")
+      .def("min_contact_distance", &World::min_contact_distance, py::arg("max_distance") = -1.0,
+           "Smallest gap at the current state among pairs closer than max_distance (<= 0: "
+           "d_hat); inf if none.")
       .def(
           "step",
           [](World& w, int n) {

@@ -47,16 +47,18 @@ std::string describe(const ContactStencil& s) {
 
 }  // namespace
 
-double IpcContactTerm::max_step(const VecX& q, const VecX& dq) const {
-  if (dq.size() != q.size()) throw std::invalid_argument("max_step: dq must have the size of q");
-  const std::vector<Vec3> x0 = mesh_.world_vertices(q);
-  const std::vector<Vec3> x1 = mesh_.world_vertices(q + dq);
-  BroadPhaseQuery query;  // margin 0: only the thickness must stay clear
+// Candidate pairs of the straight move x0 → x1 that come within `margin` (beyond their
+// thickness), and their ACCD times of impact (1: none on the step).
+void IpcContactTerm::swept_tois(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1,
+                                double margin, std::vector<ContactStencil>& stencils,
+                                std::vector<double>& toi) const {
+  BroadPhaseQuery query;
+  query.margin = margin;
   query.ground = settings_.ground;
   query.ground_height = settings_.ground_height;
   const Candidates c = broad_phase_.query_swept(x0, x1, query);
-
-  std::vector<ContactStencil> stencils;
+  stencils.clear();
+  stencils.reserve(c.point_triangle.size() + c.edge_edge.size() + c.point_ground.size());
   for (const auto& [v, f] : c.point_triangle) stencils.push_back(point_triangle_stencil(mesh_, v, f, 0.0));
   for (const auto& [a, b] : c.edge_edge) stencils.push_back(edge_edge_stencil(mesh_, a, b, 0.0));
   for (int v : c.point_ground) stencils.push_back(point_ground_stencil(mesh_, v, 0.0));
@@ -64,13 +66,52 @@ double IpcContactTerm::max_step(const VecX& q, const VecX& dq) const {
   CcdOptions options;
   options.target = settings_.ccd_target;
   const int n = int(stencils.size());
-  std::vector<double> toi(size_t(n), 1.0);
+  toi.assign(size_t(n), 1.0);
   ABD_PARALLEL_FOR_IF(n >= kMinParallelCcd)
-  for (int i = 0; i < n; ++i)
-    toi[size_t(i)] = candidate_toi(stencils[i], x0, x1, settings_.ground_height, options);
+  for (int i = 0; i < n; ++i) {
+    // Pairs that do not move relative to each other keep their distance: no CCD needed.
+    const ContactStencil& s = stencils[size_t(i)];
+    bool moving = false;
+    for (int k = 0; k < s.nv && !moving; ++k) moving = x0[s.vertices[k]] != x1[s.vertices[k]];
+    if (moving) toi[size_t(i)] = candidate_toi(s, x0, x1, settings_.ground_height, options);
+  }
+}
+
+double IpcContactTerm::max_step(const VecX& q, const VecX& dq) const {
+  if (dq.size() != q.size()) throw std::invalid_argument("max_step: dq must have the size of q");
+  std::vector<ContactStencil> stencils;
+  std::vector<double> toi;
+  // margin 0: only the thickness must stay clear
+  swept_tois(mesh_.world_vertices(q), mesh_.world_vertices(q + dq), 0.0, stencils, toi);
   double alpha = 1.0;
   for (double t : toi) alpha = std::min(alpha, t);
   return alpha;
+}
+
+void IpcContactTerm::body_max_steps(const VecX& q, const VecX& dq,
+                                    const std::vector<unsigned char>& movable, VecX& bound,
+                                    std::vector<unsigned char>& near,
+                                    std::vector<BodyLink>& links) const {
+  const int nb = mesh_.num_bodies();
+  if (dq.size() != q.size() || bound.size() != nb || int(near.size()) != nb ||
+      int(movable.size()) != nb)
+    throw std::invalid_argument("body_max_steps: dq, bound, near and movable must match q");
+  std::vector<ContactStencil> stencils;
+  std::vector<double> toi;
+  // within reach of the barrier anywhere on the path
+  swept_tois(mesh_.world_vertices(q), mesh_.world_vertices(q + dq), settings_.d_hat, stencils,
+             toi);
+  const int n = int(stencils.size());
+  for (int i = 0; i < n; ++i) {
+    const ContactStencil& s = stencils[size_t(i)];
+    const int a = s.bodies[0], b = s.bodies[1];
+    for (int body : {a, b}) {
+      if (body < 0 || !movable[body]) continue;
+      near[body] = 1;
+      bound[body] = std::min(bound[body], toi[size_t(i)]);
+    }
+    if (b >= 0 && a != b && movable[a] && movable[b]) links.push_back({a, b});
+  }
 }
 
 double IpcContactTerm::min_distance(const VecX& q, double max_distance) const {

@@ -111,10 +111,15 @@ ActiveSet IpcContactTerm::build_active_set(const VecX& q, double reach) const {
   return select_active(mesh_, table_, candidates, q, std::move(x), reach, settings_.ground_height);
 }
 
-const ActiveSet& IpcContactTerm::active_set_at(const VecX& q, ActiveSet& scratch) const {
+const ActiveSet& IpcContactTerm::active_set_at(const VecX& q, ActiveSet& /*scratch*/) const {
   if (active_.q.size() == q.size() && active_.q == q) return active_;
-  scratch = build_active_set(q, settings_.d_hat);
-  return scratch;
+  if (last_built_.q.size() != q.size() || last_built_.q != q)
+    last_built_ = build_active_set(q, settings_.d_hat);
+  return last_built_;
+}
+
+std::array<int, 2> IpcContactTerm::stencil_bodies(const std::array<int, 4>& v, int nv) const {
+  return {mesh_.vertex_body[v[0]], nv > 1 ? mesh_.vertex_body[v[nv - 1]] : -1};
 }
 
 void IpcContactTerm::set_kappa(double kappa) {
@@ -126,12 +131,28 @@ void IpcContactTerm::begin_step(const StepContext& ctx) {
   if (!(ctx.dt > 0.0)) throw std::invalid_argument("begin_step: dt must be > 0");
   dt_ = ctx.dt;
   friction_eps_ = settings_.eps_v * dt_;
-  active_ = build_active_set(ctx.q_t, settings_.d_hat);
+  potential_scale_ = ctx.potential_scale > 0.0 ? ctx.potential_scale : dt_ * dt_;
+  if (adaptive_kappa()) {
+    // κ_min and κ_max follow the step's potential scale c² (BDF2: c = 2h/3).
+    kappa_min_ = min_barrier_stiffness(bbox_diagonal_, settings_.d_hat, average_mass_,
+                                       std::sqrt(potential_scale_));
+    kappa_max_ = 100.0 * kappa_min_;
+    kappa_ = std::clamp(kappa_, kappa_min_, kappa_max_);
+  }
+  if (last_built_.q.size() == ctx.q_t.size() && last_built_.q == ctx.q_t)
+    active_ = last_built_;
+  else
+    active_ = build_active_set(ctx.q_t, settings_.d_hat);
   friction_ = lag_friction(active_, barrier_params(kappa_));
 }
 
 void IpcContactTerm::update(const VecX& q) {
-  active_ = build_active_set(q, settings_.d_hat);
+  if (last_built_.q.size() == q.size() && last_built_.q == q) {
+    active_ = std::move(last_built_);
+    last_built_ = ActiveSet();
+  } else if (active_.q.size() != q.size() || active_.q != q) {
+    active_ = build_active_set(q, settings_.d_hat);
+  }
   if (adaptive_kappa()) {
     // IPC: if the closest gap is tiny and still shrinking, the barrier is too soft.
     kappa_ = update_barrier_stiffness(prev_min_gap_, active_.min_gap, kappa_max_, kappa_,
@@ -154,8 +175,9 @@ double IpcContactTerm::initialize_kappa(const VecX& q, const VecX& grad_rest) {
       grad_barrier.segment<12>(12 * b).setZero();
       rest.segment<12>(12 * b).setZero();
     }
+  const double h = potential_scale_ > 0.0 ? std::sqrt(potential_scale_) : dt_;
   const BarrierStiffness s = initial_barrier_stiffness(bbox_diagonal_, settings_.d_hat,
-                                                       average_mass_, dt_, rest, grad_barrier);
+                                                       average_mass_, h, rest, grad_barrier);
   kappa_ = s.kappa;
   kappa_min_ = s.kappa_min;
   kappa_max_ = s.kappa_max;
@@ -238,6 +260,47 @@ ContactCounts IpcContactTerm::counts() const {
   }
   c.friction = int(friction_.size());
   return c;
+}
+
+}  // namespace abd
+
+namespace abd {
+
+void IpcContactTerm::add_body_values(const VecX& q, const std::vector<unsigned char>& movable,
+                                     VecX& per_body, std::vector<BodyLink>& links) const {
+  if (per_body.size() != mesh_.num_bodies() || int(movable.size()) != mesh_.num_bodies())
+    throw std::invalid_argument("add_body_values: per_body and movable need one entry per body");
+  ActiveSet scratch;
+  const ActiveSet& set = active_set_at(q, scratch);
+  auto owner = [&](const std::array<int, 2>& b) {
+    if (movable[b[0]]) return b[0];
+    return b[1] >= 0 && movable[b[1]] ? b[1] : -1;
+  };
+  auto link = [&](const std::array<int, 2>& b) {
+    if (b[1] >= 0 && b[0] != b[1] && movable[b[0]] && movable[b[1]]) links.push_back({b[0], b[1]});
+  };
+  const BarrierParams p = barrier_params(kappa_);
+  for (const ContactStencil& s : set.stencils) {
+    const std::array<int, 2> b{s.bodies[0], s.bodies[1]};
+    const int o = owner(b);
+    link(b);
+    if (o >= 0) per_body[o] += stencil_barrier(s, set.x, p, 0).value;
+  }
+  for (const FrictionStencil& f : friction_) {
+    const std::array<int, 2> b = stencil_bodies(f.vertices, f.nv);
+    const int o = owner(b);
+    link(b);
+    if (o >= 0) per_body[o] += friction_energy(f, set.x, friction_eps_, 0).value;
+  }
+}
+
+void IpcContactTerm::body_links(const std::vector<unsigned char>& movable,
+                                std::vector<BodyLink>& links) const {
+  auto link = [&](const std::array<int, 2>& b) {
+    if (b[1] >= 0 && b[0] != b[1] && movable[b[0]] && movable[b[1]]) links.push_back({b[0], b[1]});
+  };
+  for (const ContactStencil& s : active_.stencils) link({s.bodies[0], s.bodies[1]});
+  for (const FrictionStencil& f : friction_) link(stencil_bodies(f.vertices, f.nv));
 }
 
 }  // namespace abd

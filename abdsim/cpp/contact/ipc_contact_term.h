@@ -6,7 +6,8 @@
 // fixed bodies are ignored, they can neither move apart nor be helped.
 //
 // Call order the solver should follow each step:
-//   begin_step(ctx)            lag friction at q_t (normal forces, bases, closest points)
+//   begin_step(ctx)            lag friction at q_t (normal forces, bases, closest points);
+//                              ctx.potential_scale (c²) sets the scale of adaptive κ
 //   [initialize_kappa(q, g)]   adaptive κ only: balance against the rest of ∇Π (IPC)
 //   repeat: update(q) → gradient/Hessian at q → max_step(q, dq) → line search on value(q')
 // value/add_gradient/add_hessian are exact at any q: at the q of the last update() they reuse
@@ -18,6 +19,7 @@
 // Not thread-safe for concurrent calls on one object: the broad phase's BVHs are a cache that
 // const methods refit.
 #pragma once
+#include <array>
 #include <string>
 #include <vector>
 
@@ -70,6 +72,19 @@ class IpcContactTerm : public EnergyTerm {
   void add_hessian(const VecX& q, double scale, std::vector<BodyBlock>& blocks) const override;
   double max_step(const VecX& q, const VecX& dq) const override;
 
+  // Splitting by body (solver/energy_term.h): every stencil involves one or two bodies (the
+  // ground is none), so the solver can run independent groups of bodies separately.
+  bool splits_by_body() const override { return true; }
+  void add_body_values(const VecX& q, const std::vector<unsigned char>& movable, VecX& per_body,
+                       std::vector<BodyLink>& links) const override;
+  void body_links(const std::vector<unsigned char>& movable,
+                  std::vector<BodyLink>& links) const override;
+  // Candidates are those within d̂ (+ thickness) along the path, so `near` and `links` cover
+  // every pair whose barrier may become active; bounds are the ACCD times of impact.
+  void body_max_steps(const VecX& q, const VecX& dq, const std::vector<unsigned char>& movable,
+                      VecX& bound, std::vector<unsigned char>& near,
+                      std::vector<BodyLink>& links) const override;
+
   // Smallest gap d − ξ between primitives (and to the ground) that is below max_distance
   // (<= 0: d̂); +inf when nothing is that close.
   double min_distance(const VecX& q, double max_distance = -1.0) const;
@@ -102,12 +117,20 @@ class IpcContactTerm : public EnergyTerm {
   void add_barrier_gradient(const contact::ActiveSet& set, double kappa, double scale,
                             VecX& gradient) const;
   bool bodies_may_collide(int a, int b) const;
+  void swept_tois(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1, double margin,
+                  std::vector<contact::ContactStencil>& stencils, std::vector<double>& toi) const;
+
+  // The two bodies of a stencil's vertices (second -1 for the ground).
+  std::array<int, 2> stencil_bodies(const std::array<int, 4>& vertices, int nv) const;
 
   ContactSettings settings_;
   contact::ContactMesh mesh_;
   contact::ContactTable table_;
   mutable contact::BroadPhase broad_phase_;  // a cache of refit BVHs (see above)
   contact::ActiveSet active_;
+  // The last set built for another q (line-search trials): update() at that q reuses it.
+  mutable contact::ActiveSet last_built_;
+  double potential_scale_ = 0.0;  // c² of the current step (h², or (2h/3)² for BDF2)
   std::vector<contact::FrictionStencil> friction_;
   double friction_eps_ = 0.0;  // ε_v h
   double dt_ = 0.01;

@@ -1,5 +1,6 @@
 // What one time step did, and the exception a failed step throws.
 #pragma once
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -35,7 +36,26 @@ struct StepDiagnostics {
   // Energies at the end of the step: "kinetic" (½|q-q̃|²_M), "shape" and each added term
   // (potentials, not scaled by h²), then "total" = Π.
   std::vector<std::pair<std::string, double>> energies;
-  std::string linear_solver;  // "block_diagonal", "direct" or "pcg"
+  // Coupled solve: bodies that took part in the Newton iterations (the others kept their
+  // free per-body solution), and the islands they formed.
+  int coupled_bodies = 0;
+  int islands = 0;
+  // Contact at the end of the step (zero / +inf / 0 without contact): active primitive
+  // pairs by kind, lagged friction pairs, the smallest gap d − ξ among the active pairs
+  // (+inf when nothing is within d̂), and the barrier stiffness κ (the term's κ = IPC's
+  // κ / h²). The CCD bound is min_term_max_step.
+  int contact_point_triangle = 0;
+  int contact_edge_edge = 0;
+  int contact_point_ground = 0;
+  int contact_friction = 0;
+  double min_contact_distance = std::numeric_limits<double>::infinity();
+  double contact_kappa = 0.0;
+  // Kinematic bodies driven this step because their move would have crossed contact (see
+  // World), and the largest distance a vertex of one of them was left from its target (m).
+  int driven_bodies = 0;
+  double kinematic_lag = 0.0;
+  int kinematic_lag_body = -1;
+  std::string linear_solver;  // "block_diagonal", "direct", "pcg" or "none"
   long pcg_iterations = 0;    // summed over Newton iterations
   double wall_time = 0.0;     // seconds
 };

@@ -34,6 +34,12 @@ struct BodyBlock {
   Mat12 H;
 };
 
+// Two bodies an energy term couples (see EnergyTerm::splits_by_body).
+struct BodyLink {
+  int a;
+  int b;
+};
+
 struct StepContext {
   double dt;
   const VecX& q_t;      // state at the start of the step
@@ -60,6 +66,30 @@ class EnergyTerm {
   // feasible (continuous collision detection). Terms without feasibility constraints
   // return 1.
   virtual double max_step(const VecX& /*q*/, const VecX& /*dq*/) const { return 1.0; }
+
+  // ---- Optional: splitting by body ---------------------------------------------------
+  // A term made of elements that each involve one or two bodies (contact pairs, joints) can
+  // say which bodies it couples. The solver then splits the bodies into independent groups
+  // (islands) with their own line search and convergence, and bodies far from everything
+  // keep the per-body fast path. `movable[b]` marks the bodies whose dofs the solve moves;
+  // an element's energy belongs to the first movable body it involves (none: a constant,
+  // dropped); a link is a pair of distinct movable bodies that share an element.
+  // A term that returns false here couples every body with every other.
+  virtual bool splits_by_body() const { return false; }
+  // Adds each element's (unscaled) value at q to per_body[owner]; appends the links at q.
+  virtual void add_body_values(const VecX& /*q*/, const std::vector<unsigned char>& /*movable*/,
+                               VecX& /*per_body*/, std::vector<BodyLink>& /*links*/) const {}
+  // Links of the state of the last update() and begin_step() (lagged elements included).
+  virtual void body_links(const std::vector<unsigned char>& /*movable*/,
+                          std::vector<BodyLink>& /*links*/) const {}
+  // Per-body step bounds along q + t dq: bound[b] = min(bound[b], the max_step of the
+  // elements involving b); near[b] = 1 when an element involving b may have a non-zero
+  // energy somewhere on the path; links: pairs of movable bodies that may interact there.
+  // bound and near come in sized to the number of bodies.
+  virtual void body_max_steps(const VecX& /*q*/, const VecX& /*dq*/,
+                              const std::vector<unsigned char>& /*movable*/, VecX& /*bound*/,
+                              std::vector<unsigned char>& /*near*/,
+                              std::vector<BodyLink>& /*links*/) const {}
 };
 
 }  // namespace abd

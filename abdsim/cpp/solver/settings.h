@@ -40,6 +40,12 @@ struct SolverSettings {
   double pcg_tolerance = 1e-8;  // relative residual |r| / |b|
   int pcg_max_iterations = 2000;
 
+  // Kinematic bodies whose move would cross contact are driven towards their target for that
+  // step by s (½ (x − target)ᵀ M (x − target) + c² Ψ) (world.h): the body s times heavier
+  // and stiffer heading for the target (with h = 0.01 s and s = 1e4 a 1 kg link is a
+  // 1e8 N/m spring on its centre).
+  double kinematic_drive_stiffness = 1e4;
+
   // Project the shape energy's Hessian to PSD (always wanted; off only for experiments).
   bool project_psd = true;
   // OpenMP threads for the per-body loops; 0 = OpenMP's default. Results do not depend on it.

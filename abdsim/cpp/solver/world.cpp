@@ -11,38 +11,10 @@
 #include "common/affine.h"
 #include "solver/body_math.h"
 #include "solver/parallel.h"
+#include "solver/world_detail.h"
 
 namespace abd {
-namespace {
-
-void require(bool ok, const std::string& message) {
-  if (!ok) throw std::invalid_argument(message);
-}
-
-// Newton outcome of one body (fast path) or of the whole system.
-enum Status : int { kRunning = 0, kConverged, kMaxIterations, kLineSearch, kSingular, kNonFinite };
-
-struct BodyNewton {
-  int status = kRunning;
-  int iterations = 0;
-  double step_translation = 0.0;  // last direction, velocity units
-  double step_affine = 0.0;
-  double residual = 0.0;
-  double kinetic = 0.0;
-  double shape = 0.0;
-};
-
-// Largest |Δp_k| / h and |ΔA_kl| / h of a 12-dof step.
-void step_sizes(const Vec12& dq, double h, double& translation, double& affine) {
-  translation = dq.head<3>().cwiseAbs().maxCoeff() / h;
-  affine = dq.tail<9>().cwiseAbs().maxCoeff() / h;
-}
-
-// Roundoff allowance in the sufficient-decrease test: Π is a sum of terms of its own size,
-// so a change below ~1e-12 |Π| is noise, not an increase.
-double roundoff(double energy) { return 1e-12 * std::abs(energy); }
-
-}  // namespace
+using namespace world_detail;
 
 World::World(const SceneData& scene, const SolverSettings& settings)
     : scene_(scene), settings_(settings), n_(static_cast<int>(scene.bodies.size())),
@@ -70,6 +42,7 @@ World::World(const SceneData& scene, const SolverSettings& settings)
   dynamic_.resize(n_);
   external_kinetic_.resize(n_);
   kinematic_.assign(n_, 0);
+  driven_.assign(n_, 0);
   for (int b = 0; b < n_; ++b) {
     const BodyData& body = scene.bodies[b];
     require(ng == 0 || (body.geometry >= 0 && body.geometry < ng),
@@ -238,9 +211,10 @@ const StepDiagnostics& World::step() {
     step_per_body(c, bdf2, d);  // predictions, Newton and velocities in one parallel loop
   } else {
     parallel_for(n_, threads_, [&](int b) { predict_body(b, c, bdf2); });
-    solve_global(c2, d);
+    solve_coupled(c2, d);
     parallel_for(n_, threads_, [&](int b) { finish_body(b, c); });
   }
+  contact_diagnostics(d);
   if (!x_.allFinite() || !q_dot_new_.allFinite())
     throw SolverError("the step produced a non-finite state");
 
@@ -269,12 +243,82 @@ void World::set_history_limit(std::size_t limit) {
 }
 
 // ---------------------------------------------------------------------------------------
+// Per-body Newton on ½|x − q̃|²_M + c² Ψ (no terms), from x. Used by the fast path and as
+// the free solution the coupled solve starts from.
+void World::newton_body(int b, double c2, Vec12& x, BodyNewton& r,
+                        std::vector<double>* alphas) const {
+  const double h = scene_.dt;
+  const int max_it = settings_.max_newton_iterations;
+  const DyadicMass& dm = dyadic_[b];
+  const bool kinetic = !external_kinetic_[b];
+  const Vec12 qt = q_tilde_.segment<12>(12 * b);
+  auto energy = [&](const Vec12& y, double& ek, double& es) {
+    ek = kinetic ? mass_quadratic(dm, y - qt) : 0.0;
+    es = shape_.body_value(b, y);
+    return ek + c2 * es;
+  };
+  double E = energy(x, r.kinetic, r.shape);
+  for (int it = 0; it < max_it; ++it) {
+    Vec12 g;
+    Mat12 H;
+    if (kinetic) {
+      g = mass_times(dm, x - qt);
+      H = dm.matrix();
+    } else {
+      g.setZero();
+      H.setZero();
+    }
+    shape_.add_body_derivatives(b, x, c2, g, H);
+    r.residual = g.cwiseAbs().maxCoeff();
+    r.iterations = it + 1;
+    Vec12 dq;
+    if (!cholesky_solve<12>(H, Vec12(-g), dq)) {
+      r.status = kSingular;
+      break;
+    }
+    if (!dq.allFinite()) {
+      r.status = kNonFinite;
+      break;
+    }
+    step_sizes(dq, h, r.step_translation, r.step_affine);
+    const bool converged =
+        r.step_translation <= settings_.tol_translation && r.step_affine <= settings_.tol_affine;
+    const double slope = g.dot(dq);
+    double alpha = 1.0;
+    bool accepted = false;
+    double ek = 0.0, es = 0.0, E_new = E;
+    for (int ls = 0; ls < settings_.max_line_search_iterations; ++ls) {
+      E_new = energy(x + alpha * dq, ek, es);
+      if (E_new <= E + settings_.armijo_c * alpha * slope + roundoff(E)) {
+        accepted = true;
+        break;
+      }
+      alpha *= 0.5;
+    }
+    if (accepted) {
+      x += alpha * dq;
+      E = E_new;
+      r.kinetic = ek;
+      r.shape = es;
+      if (alphas) (*alphas)[it] = std::min((*alphas)[it], alpha);
+    } else if (!converged) {
+      r.status = kLineSearch;
+      break;
+    }
+    if (converged) {
+      r.status = kConverged;
+      break;
+    }
+  }
+  if (r.status == kRunning) r.status = kMaxIterations;
+}
+
+// ---------------------------------------------------------------------------------------
 // Fast path: no term couples bodies, so Π is a sum of per-body potentials and every body
 // runs its own Newton iteration (12x12 Cholesky, own line search), in parallel: one parallel
 // loop per step; results do not depend on which thread ran which body.
 void World::step_per_body(double c, bool bdf2, StepDiagnostics& d) {
   d.linear_solver = "block_diagonal";
-  const double h = scene_.dt;
   const double c2 = c * c;
   const int max_it = settings_.max_newton_iterations;
   std::vector<BodyNewton> result(n_);
@@ -291,70 +335,8 @@ void World::step_per_body(double c, bool bdf2, StepDiagnostics& d) {
       finish_body(b, c);
       return;
     }
-    std::vector<double>& my_alphas = alphas[slot];
-    const DyadicMass& dm = dyadic_[b];
-    const bool kinetic = !external_kinetic_[b];
-    const Vec12 qt = q_tilde_.segment<12>(12 * b);
     Vec12 x = x_pred_.segment<12>(12 * b);
-    auto energy = [&](const Vec12& y, double& ek, double& es) {
-      ek = kinetic ? mass_quadratic(dm, y - qt) : 0.0;
-      es = shape_.body_value(b, y);
-      return ek + c2 * es;
-    };
-    double E = energy(x, r.kinetic, r.shape);
-    for (int it = 0; it < max_it; ++it) {
-      Vec12 g;
-      Mat12 H;
-      if (kinetic) {
-        g = mass_times(dm, x - qt);
-        H = dm.matrix();
-      } else {
-        g.setZero();
-        H.setZero();
-      }
-      shape_.add_body_derivatives(b, x, c2, g, H);
-      r.residual = g.cwiseAbs().maxCoeff();
-      r.iterations = it + 1;
-      Vec12 dq;
-      if (!cholesky_solve<12>(H, Vec12(-g), dq)) {
-        r.status = kSingular;
-        break;
-      }
-      if (!dq.allFinite()) {
-        r.status = kNonFinite;
-        break;
-      }
-      step_sizes(dq, h, r.step_translation, r.step_affine);
-      const bool converged =
-          r.step_translation <= settings_.tol_translation && r.step_affine <= settings_.tol_affine;
-      const double slope = g.dot(dq);
-      double alpha = 1.0;
-      bool accepted = false;
-      double ek = 0.0, es = 0.0, E_new = E;
-      for (int ls = 0; ls < settings_.max_line_search_iterations; ++ls) {
-        E_new = energy(x + alpha * dq, ek, es);
-        if (E_new <= E + settings_.armijo_c * alpha * slope + roundoff(E)) {
-          accepted = true;
-          break;
-        }
-        alpha *= 0.5;
-      }
-      if (accepted) {
-        x += alpha * dq;
-        E = E_new;
-        r.kinetic = ek;
-        r.shape = es;
-        my_alphas[it] = std::min(my_alphas[it], alpha);
-      } else if (!converged) {
-        r.status = kLineSearch;
-        break;
-      }
-      if (converged) {
-        r.status = kConverged;
-        break;
-      }
-    }
-    if (r.status == kRunning) r.status = kMaxIterations;
+    newton_body(b, c2, x, r, &alphas[slot]);
     x_.segment<12>(12 * b) = x;
     finish_body(b, c);
   });
@@ -405,188 +387,6 @@ void World::step_per_body(double c, bool bdf2, StepDiagnostics& d) {
     d.line_search_alphas.push_back(a <= 1.0 ? a : 1.0);
   }
   d.energies = {{"kinetic", kinetic}, {"shape", shape}, {"total", kinetic + c2 * shape}};
-}
-
-// ---------------------------------------------------------------------------------------
-// Global path: terms may couple bodies and bound the step (CCD).
-
-// Π at x; `parts` (if given) receives kinetic, shape, then each term's value.
-double World::total_energy(const VecX& x, double c2, std::vector<double>* parts) const {
-  const double kinetic = deterministic_sum(n_, threads_, [&](int b) {
-    if (constrained_[b] || external_kinetic_[b]) return 0.0;
-    return mass_quadratic(dyadic_[b], x.segment<12>(12 * b) - q_tilde_.segment<12>(12 * b));
-  });
-  const double shape = deterministic_sum(
-      n_, threads_, [&](int b) { return shape_.body_value(b, x.segment<12>(12 * b)); });
-  double potential = shape;
-  if (parts) parts->assign({kinetic, shape});
-  for (const auto& t : terms_) {
-    const double v = t->value(x);
-    potential += v;
-    if (parts) parts->push_back(v);
-  }
-  return kinetic + c2 * potential;
-}
-
-// Start of the Newton iteration: kinematic bodies at their targets, free bodies moved
-// towards q̃ as far as every term allows (the start must be feasible, e.g. intersection-free).
-void World::initial_guess(double c2, StepDiagnostics& d) {
-  const StepContext ctx{scene_.dt, q_, q_dot_, c2};
-  for (const auto& t : terms_) t->begin_step(ctx);
-  auto min_max_step = [&](const VecX& from, const VecX& dq) {
-    double a = 1.0;
-    for (const auto& t : terms_) a = std::min(a, t->max_step(from, dq));
-    d.min_term_max_step = std::min(d.min_term_max_step, a);
-    return a;
-  };
-  VecX full = x_pred_ - q_;  // zero for fixed bodies
-  x_ = q_;
-  if (min_max_step(q_, full) >= 1.0) {
-    x_ += full;
-  } else {
-    VecX kin = VecX::Zero(12 * n_);
-    bool any_kinematic = false;
-    for (int b = 0; b < n_; ++b)
-      if (kinematic_[b]) {
-        kin.segment<12>(12 * b) = full.segment<12>(12 * b);
-        full.segment<12>(12 * b).setZero();
-        any_kinematic = true;
-      }
-    if (any_kinematic) {
-      const double a = min_max_step(q_, kin);
-      if (a < 1.0)
-        throw SolverError(
-            "the prescribed motion of the kinematic bodies is blocked by an energy term's step "
-            "bound (max_step = " + std::to_string(a) +
-            "): a kinematic target would pass through contact within one step");
-      x_ += kin;
-    }
-    const double a = min_max_step(x_, full);
-    x_ += (a >= 1.0 ? 1.0 : settings_.ccd_safety * a) * full;
-  }
-  for (const auto& t : terms_) t->update(x_);
-}
-
-void World::solve_global(double c2, StepDiagnostics& d) {
-  const double h = scene_.dt;
-  initial_guess(c2, d);
-  grad_.resize(12 * n_);
-  dq_.resize(12 * n_);
-  std::vector<double> parts;
-  double E = total_energy(x_, c2, &parts);
-  bool converged = false;
-
-  for (int it = 0; it < settings_.max_newton_iterations && !converged; ++it) {
-    d.newton_iterations = it + 1;
-    system_.reset(n_, constrained_);
-    parallel_for(n_, threads_, [&](int b) {
-      Vec12 g = Vec12::Zero();
-      Mat12& H = system_.diagonal(b);
-      H.setZero();
-      if (!constrained_[b]) {
-        if (!external_kinetic_[b]) {
-          g = mass_times(dyadic_[b], x_.segment<12>(12 * b) - q_tilde_.segment<12>(12 * b));
-          H = dyadic_[b].matrix();
-        }
-        shape_.add_body_derivatives(b, x_.segment<12>(12 * b), c2, g, H);
-      }
-      grad_.segment<12>(12 * b) = g;
-    });
-    blocks_.clear();
-    for (const auto& t : terms_) {
-      t->add_gradient(x_, c2, grad_);
-      t->add_hessian(x_, c2, blocks_);
-    }
-    for (int b = 0; b < n_; ++b)
-      if (constrained_[b]) grad_.segment<12>(12 * b).setZero();
-    if (!grad_.allFinite()) throw SolverError("the gradient of Π is not finite");
-    system_.add_blocks(blocks_);
-    system_.finalize();
-    d.residual = grad_.cwiseAbs().maxCoeff();
-
-    const VecX rhs = -grad_;
-    LinearSolverKind kind = settings_.linear_solver;
-    const bool per_body = kind == LinearSolverKind::kAuto && !system_.coupled();
-    if (kind == LinearSolverKind::kAuto)
-      kind = 12 * n_ <= settings_.direct_max_dofs ? LinearSolverKind::kDirect
-                                                  : LinearSolverKind::kPCG;
-    if (per_body) {
-      d.linear_solver = "block_diagonal";
-      const int bad = system_.solve_block_diagonal(rhs, dq_, threads_);
-      if (bad >= 0)
-        throw SolverError("Newton failed at step " + std::to_string(step_count_) + ": the 12x12 "
-                          "Newton matrix of " + describe(bad) + " is not positive definite" +
-                          (external_kinetic_[bad] ? " (external_kinetic = 1 and no energy term "
-                                                    "holds it)"
-                                                  : ""));
-    } else if (kind == LinearSolverKind::kDirect) {
-      d.linear_solver = "direct";
-      system_.solve_direct(rhs, dq_);
-    } else if (kind == LinearSolverKind::kPCG) {
-      d.linear_solver = "pcg";
-      d.pcg_iterations += system_.solve_pcg(rhs, dq_, settings_.pcg_tolerance,
-                                            settings_.pcg_max_iterations, threads_);
-    }
-    if (!dq_.allFinite()) throw SolverError("the Newton direction is not finite");
-
-    d.step_translation = d.step_affine = 0.0;
-    for (int b = 0; b < n_; ++b) {
-      double st, sa;
-      step_sizes(dq_.segment<12>(12 * b), h, st, sa);
-      d.step_translation = std::max(d.step_translation, st);
-      d.step_affine = std::max(d.step_affine, sa);
-    }
-    converged = d.step_translation <= settings_.tol_translation &&
-                d.step_affine <= settings_.tol_affine;
-
-    double bound = 1.0;
-    for (const auto& t : terms_) bound = std::min(bound, t->max_step(x_, dq_));
-    d.min_term_max_step = std::min(d.min_term_max_step, bound);
-    double alpha = bound >= 1.0 ? 1.0 : settings_.ccd_safety * bound;
-    const double slope = grad_.dot(dq_);
-    bool accepted = false;
-    std::vector<double> trial_parts;
-    double E_new = E;
-    for (int ls = 0; ls < settings_.max_line_search_iterations; ++ls) {
-      trial_ = x_ + alpha * dq_;
-      E_new = total_energy(trial_, c2, &trial_parts);
-      if (E_new <= E + settings_.armijo_c * alpha * slope + roundoff(E)) {
-        accepted = true;
-        break;
-      }
-      alpha *= 0.5;
-    }
-    if (!accepted) {
-      if (converged) break;
-      std::ostringstream msg;
-      msg << "Newton failed at step " << step_count_ << " (t = " << time_
-          << "): the line search found no decrease of Π in "
-          << settings_.max_line_search_iterations << " halvings (iteration " << it + 1
-          << ", step bound " << bound << ", last step " << d.step_translation << " m/s, "
-          << d.step_affine << " 1/s)";
-      throw SolverError(msg.str());
-    }
-    x_.swap(trial_);
-    E = E_new;
-    parts.swap(trial_parts);
-    d.line_search_alphas.push_back(alpha);
-    for (const auto& t : terms_) t->update(x_);
-  }
-  if (!converged) {
-    std::ostringstream msg;
-    msg << "Newton did not converge in " << settings_.max_newton_iterations
-        << " iterations at step " << step_count_ << " (t = " << time_ << "): last step "
-        << d.step_translation << " m/s, " << d.step_affine << " 1/s (tolerances "
-        << settings_.tol_translation << ", " << settings_.tol_affine << "), residual "
-        << d.residual;
-    throw SolverError(msg.str());
-  }
-  d.converged = true;
-  d.total_body_iterations = static_cast<long>(d.newton_iterations) * n_;
-  d.energies = {{"kinetic", parts[0]}, {"shape", parts[1]}};
-  for (std::size_t k = 0; k < terms_.size(); ++k)
-    d.energies.emplace_back(terms_[k]->name(), parts[2 + k]);
-  d.energies.emplace_back("total", E);
 }
 
 }  // namespace abd

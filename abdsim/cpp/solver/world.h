@@ -8,16 +8,33 @@
 // external_kinetic (no kinetic term), kinematic (scripted: held at its target during the
 // solve, velocity from the target).
 //
-// Extra potentials (contact, joints, ...) plug in with add_term(). Each Newton direction is
-// first clipped to ccd_safety × min_terms max_step(q, Δq) when a term bounds it, then
-// backtracked (Armijo) on Π. With no extra term bodies are independent and each body runs
-// its own 12-dof Newton solve (the free-flight fast path, OpenMP over bodies).
+// Extra potentials (contact, joints, ...) plug in with add_term(); IPC contact is built in
+// (enable_contact). Each Newton direction is first clipped to ccd_safety × min_terms
+// max_step(q, Δq) when a term bounds it, then backtracked (Armijo) on Π. With no extra term
+// bodies are independent and each body runs its own 12-dof Newton solve (the free-flight
+// fast path, in parallel over bodies).
+//
+// With terms (world_coupled.cpp), every body first runs that per-body solve as if free; the
+// solution is the Newton start. Terms that split by body (contact) say which bodies they
+// couple: bodies that nothing comes near along the step keep their free solution (they are
+// done), the others form islands of coupled bodies, each with its own CCD bound, line search
+// and convergence, solved together (one linear system, one contact query per iteration) in
+// lockstep. Islands merge as soon as a term links them.
+//
+// Kinematic bodies: held at their target (a hard constraint) when the move there is free of
+// contact (CCD). A move that is not is *driven* for that step instead: the body becomes a
+// free unknown with the energy s (½ (x − target)ᵀ M (x − target) + c² Ψ) (s =
+// kinematic_drive_stiffness, M its mass matrix, Ψ its shape energy): the same body, s times
+// heavier and stiffer, heading for the target. The barrier stops it short of anything it
+// would cross and it pushes what it meets; the distance left to the target is reported as
+// StepDiagnostics::kinematic_lag.
 #pragma once
 #include <cstdint>
 #include <deque>
 #include <memory>
 #include <vector>
 
+#include "contact/ipc_contact_term.h"
 #include "mass/dyadic_mass.h"
 #include "solver/block_system.h"
 #include "solver/diagnostics.h"
@@ -40,6 +57,17 @@ class World {
   void add_term(std::unique_ptr<EnergyTerm> term) { add_term(std::shared_ptr<EnergyTerm>(std::move(term))); }
   const std::vector<std::shared_ptr<EnergyTerm>>& terms() const { return terms_; }
   const ShapeEnergyTerm& shape_term() const { return shape_; }
+
+  // IPC contact between the bodies' surfaces (and the ground, if settings.ground): builds the
+  // contact term from the scene, checks the current state (std::invalid_argument naming the
+  // bodies if surfaces intersect or are closer than their thickness) and adds the term.
+  // Once per world.
+  IpcContactTerm& enable_contact(const ContactSettings& settings);
+  // The contact term, or null.
+  const std::shared_ptr<IpcContactTerm>& contact() const { return contact_; }
+  // Smallest gap between contact primitives (and to the ground) at the current state, among
+  // those closer than max_distance (<= 0: d̂); +inf if none, or without contact.
+  double min_contact_distance(double max_distance = -1.0) const;
 
   // Advances one time step. Throws SolverError (state unchanged) when it cannot.
   const StepDiagnostics& step();
@@ -78,9 +106,36 @@ class World {
   void predict_body(int b, double c, bool bdf2);
   void finish_body(int b, double c);
   void step_per_body(double c, bool bdf2, StepDiagnostics& d);
-  void solve_global(double c2, StepDiagnostics& d);
-  void initial_guess(double c2, StepDiagnostics& d);
+  // Per-body Newton on ½|x − q̃|²_M + c² Ψ (no terms) from x; fills r, min alphas per
+  // iteration into `alphas` (if given).
+  struct BodyNewton {
+    int status = 0;  // Status in world.cpp
+    int iterations = 0;
+    double step_translation = 0.0;  // last direction, velocity units
+    double step_affine = 0.0;
+    double residual = 0.0;
+    double kinetic = 0.0;
+    double shape = 0.0;
+  };
+  void newton_body(int b, double c2, Vec12& x, BodyNewton& r, std::vector<double>* alphas) const;
+  // world_coupled.cpp
+  void solve_coupled(double c2, StepDiagnostics& d);
+  void place_kinematic_bodies(StepDiagnostics& d);
+  double step_bounds(const VecX& x, const VecX& dq, const std::vector<unsigned char>& mask,
+                     std::vector<unsigned char>& near, std::vector<BodyLink>& links);
+  void start_iterate(bool split, double c2, StepDiagnostics& d);
+  void initialize_contact_stiffness(double c2);
+  // Π_b of one movable body without terms (kinetic or drive, plus c² shape); with g and H
+  // (if non-null) its gradient and Hessian.
+  double body_energy(int b, const Vec12& x, double c2, Vec12* g, Mat12* H) const;
+  // Per-body energies at x (terms that split by body included) into E, the rest (terms that
+  // do not split) returned; links found on the way appended.
+  double body_energies(const VecX& x, double c2, VecX& E, std::vector<BodyLink>& links) const;
   double total_energy(const VecX& x, double c2, std::vector<double>* parts) const;
+  void contact_diagnostics(StepDiagnostics& d) const;
+  // islands (union-find over bodies; roots are the smallest index)
+  int island(int b);
+  bool merge_islands(int a, int b);
 
   SceneData scene_;
   SolverSettings settings_;
@@ -89,6 +144,7 @@ class World {
   std::vector<DyadicMass> dyadic_;
   ShapeEnergyTerm shape_;
   std::vector<std::shared_ptr<EnergyTerm>> terms_;
+  std::shared_ptr<IpcContactTerm> contact_;
 
   VecX q_, q_dot_;            // current state
   VecX q_prev_, q_dot_prev_;  // previous state (BDF2)
@@ -100,13 +156,21 @@ class World {
   long step_base_ = 0;
 
   std::vector<std::uint8_t> fixed_, dynamic_, external_kinetic_, kinematic_;
-  std::vector<std::uint8_t> constrained_;  // fixed or kinematic during this step
+  std::vector<std::uint8_t> constrained_;  // fixed or (hard) kinematic during this step
+  std::vector<std::uint8_t> driven_;       // kinematic, driven by the stiff spring this step
+  std::vector<unsigned char> movable_;     // unknowns of this step's solve
   VecX kinematic_target_;
 
   // Per-step scratch.
   VecX q_hat_, q_tilde_;
   VecX x_pred_;  // where Newton heads first: q̃ with A re-orthogonalised (see predict_body)
   VecX x_, grad_, dq_, trial_, q_dot_new_;
+  // Coupled solve: free per-body solutions, islands and their line-search state.
+  VecX x_free_;
+  std::vector<std::uint8_t> free_ok_;
+  std::vector<int> parent_;
+  std::vector<std::uint8_t> frozen_, converged_, pending_, merged_;
+  VecX alpha_, island_E_, island_E_new_, island_slope_, body_E_, body_E_new_, bound_;
   BlockSystem system_;
   std::vector<BodyBlock> blocks_;
   StepDiagnostics diag_;

@@ -1,0 +1,562 @@
+// The World's coupled solve (world.h): what a step does when energy terms (contact, joints,
+// user terms) are present.
+//
+//  1. Every free body runs the per-body Newton solve of the fast path (no terms): its free
+//     solution x_free.
+//  2. Kinematic bodies go to their targets when that move is free of contact (CCD, the other
+//     bodies at rest); the others are driven by a stiff spring this step (world.h).
+//  3. Each movable body heads for x_free. Terms that split by body report, for that move,
+//     which bodies come within their reach (links) and how far each may go (CCD). Linked
+//     bodies form islands; each island moves by its own CCD-limited fraction. Islands that
+//     nothing comes near keep x_free: they are solved.
+//  4. Projected Newton on the remaining islands in lockstep: one assembled system and one
+//     contact query per iteration, but a CCD bound, Armijo line search and convergence test
+//     per island; a converged island stops moving; islands merge whenever a term links them
+//     (then they iterate again together).
+// All reductions run over bodies in index order, so results do not depend on threads.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <string>
+
+#include "common/affine.h"
+#include "solver/body_math.h"
+#include "solver/parallel.h"
+#include "solver/world.h"
+#include "solver/world_detail.h"
+
+namespace abd {
+using namespace world_detail;
+
+int World::island(int b) {
+  while (parent_[b] != b) {
+    parent_[b] = parent_[parent_[b]];
+    b = parent_[b];
+  }
+  return b;
+}
+
+// Joins the islands of a and b (root: the smaller index). The merged island takes the smaller
+// step bound and must iterate again (it is neither converged nor frozen).
+bool World::merge_islands(int a, int b) {
+  a = island(a);
+  b = island(b);
+  if (a == b) return false;
+  if (b < a) std::swap(a, b);
+  parent_[b] = a;
+  alpha_[a] = std::min(alpha_[a], alpha_[b]);
+  converged_[a] = converged_[b] = 0;
+  frozen_[a] = frozen_[b] = 0;
+  pending_[a] = pending_[a] || pending_[b];
+  return true;
+}
+
+// A driven body is the same body s times heavier *and* s times stiffer heading for its
+// target: s (½|x − target|²_M + c² Ψ). Scaling the shape energy with the drive keeps the
+// balance of a normal body (it does not get squashed against what stops it).
+double World::body_energy(int b, const Vec12& x, double c2, Vec12* g, Mat12* H) const {
+  const DyadicMass& dm = dyadic_[b];
+  const Vec12 r = x - q_tilde_.segment<12>(12 * b);
+  double e = 0.0;
+  Vec12 gb = Vec12::Zero();
+  Mat12 Hb = Mat12::Zero();
+  if (driven_[b] || !external_kinetic_[b]) {
+    const Vec12 Mr = mass_times(dm, r);
+    e = 0.5 * r.dot(Mr);
+    if (g) gb = Mr;
+    if (H) Hb = dm.matrix();
+  }
+  if (g || H) {
+    e += c2 * shape_.add_body_derivatives(b, x, c2, gb, Hb);
+  } else {
+    e += c2 * shape_.body_value(b, x);
+  }
+  if (driven_[b]) {
+    const double s = settings_.kinematic_drive_stiffness;
+    e *= s;
+    gb *= s;
+    Hb *= s;
+  }
+  if (g) *g = gb;
+  if (H) *H = Hb;
+  return e;
+}
+
+double World::body_energies(const VecX& x, double c2, VecX& E,
+                            std::vector<BodyLink>& links) const {
+  E.resize(n_);
+  parallel_for(n_, threads_, [&](int b) {
+    E[b] = movable_[b] ? body_energy(b, x.segment<12>(12 * b), c2, nullptr, nullptr) : 0.0;
+  });
+  double rest = 0.0;
+  for (const auto& t : terms_) {
+    if (t->splits_by_body()) {
+      VecX per_body = VecX::Zero(n_);
+      t->add_body_values(x, movable_, per_body, links);
+      E += c2 * per_body;
+    } else {
+      rest += c2 * t->value(x);
+    }
+  }
+  return rest;
+}
+
+// Π at x for the diagnostics; `parts`: kinetic, shape, drive (the driven bodies' whole
+// share of Π, in Π's units), then each term's value.
+double World::total_energy(const VecX& x, double c2, std::vector<double>* parts) const {
+  const double kinetic = deterministic_sum(n_, threads_, [&](int b) {
+    if (constrained_[b] || driven_[b] || external_kinetic_[b]) return 0.0;
+    return mass_quadratic(dyadic_[b], x.segment<12>(12 * b) - q_tilde_.segment<12>(12 * b));
+  });
+  const double drive = deterministic_sum(n_, threads_, [&](int b) {
+    return driven_[b] ? body_energy(b, x.segment<12>(12 * b), c2, nullptr, nullptr) : 0.0;
+  });
+  const double shape = deterministic_sum(n_, threads_, [&](int b) {
+    return driven_[b] ? 0.0 : shape_.body_value(b, x.segment<12>(12 * b));
+  });
+  double potential = shape;
+  if (parts) parts->assign({kinetic, shape, drive});
+  for (const auto& t : terms_) {
+    const double v = t->value(x);
+    potential += v;
+    if (parts) parts->push_back(v);
+  }
+  return kinetic + drive + c2 * potential;
+}
+
+// Step bounds of the move x → x + dq: per body (bound_, from terms that split by body, for
+// the bodies in `mask`) and the bound of the terms that do not split (returned); `near` and
+// `links` as in EnergyTerm::body_max_steps.
+double World::step_bounds(const VecX& x, const VecX& dq, const std::vector<unsigned char>& mask,
+                          std::vector<unsigned char>& near, std::vector<BodyLink>& links) {
+  bound_.setOnes(n_);
+  near.assign(n_, 0);
+  double global = 1.0;
+  for (const auto& t : terms_) {
+    if (t->splits_by_body())
+      t->body_max_steps(x, dq, mask, bound_, near, links);
+    else
+      global = std::min(global, t->max_step(x, dq));
+  }
+  return global;
+}
+
+// Kinematic bodies: at their targets (constrained) when the move is free of contact with
+// everything else at rest; otherwise driven (movable, pulled by the stiff spring).
+void World::place_kinematic_bodies(StepDiagnostics& d) {
+  VecX dq = VecX::Zero(12 * n_);
+  bool any = false;
+  for (int b = 0; b < n_; ++b) {
+    if (!kinematic_[b]) continue;
+    const Vec12 step = q_tilde_.segment<12>(12 * b) - q_.segment<12>(12 * b);
+    if (step.isZero(0.0)) continue;
+    dq.segment<12>(12 * b) = step;
+    any = true;
+  }
+  std::vector<unsigned char> moving(n_, 0), near;
+  std::vector<BodyLink> links;
+  while (any) {
+    for (int b = 0; b < n_; ++b) moving[b] = !dq.segment<12>(12 * b).isZero(0.0);
+    const double global = step_bounds(q_, dq, moving, near, links);
+    bool blocked = false;
+    for (int b = 0; b < n_; ++b) {
+      if (!moving[b] || std::min(bound_[b], global) >= 1.0) continue;
+      driven_[b] = 1;
+      constrained_[b] = 0;
+      dq.segment<12>(12 * b).setZero();
+      blocked = true;
+    }
+    if (!blocked) break;
+    any = !dq.isZero(0.0);
+  }
+  for (int b = 0; b < n_; ++b) {
+    if (constrained_[b] && kinematic_[b]) x_.segment<12>(12 * b) = q_tilde_.segment<12>(12 * b);
+    if (driven_[b]) {
+      x_free_.segment<12>(12 * b) = q_tilde_.segment<12>(12 * b);  // head for the target
+      free_ok_[b] = 0;
+      ++d.driven_bodies;
+    }
+  }
+}
+
+// The Newton start: every movable body towards its free solution, island by island as far as
+// the terms allow; islands that nothing comes near are done (frozen).
+void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
+  (void)c2;
+  dq_.setZero(12 * n_);
+  for (int b = 0; b < n_; ++b)
+    if (movable_[b]) dq_.segment<12>(12 * b) = x_free_.segment<12>(12 * b) - x_.segment<12>(12 * b);
+  if (!split) {
+    int first = -1;
+    for (int b = 0; b < n_; ++b)
+      if (movable_[b]) {
+        if (first < 0)
+          first = b;
+        else
+          merge_islands(first, b);
+      }
+  }
+  std::vector<unsigned char> near;
+  std::vector<BodyLink> links;
+  const double global = step_bounds(x_, dq_, movable_, near, links);
+  for (const BodyLink& l : links) merge_islands(l.a, l.b);
+  for (int b = 0; b < n_; ++b) alpha_[b] = 1.0;
+  for (int b = 0; b < n_; ++b)
+    if (movable_[b]) {
+      const int r = island(b);
+      alpha_[r] = std::min({alpha_[r], bound_[b], global});
+    }
+  for (int b = 0; b < n_; ++b) {
+    if (!movable_[b]) continue;
+    const double a = alpha_[island(b)];
+    d.min_term_max_step = std::min(d.min_term_max_step, a);
+    if (a >= 1.0)
+      x_.segment<12>(12 * b) = x_free_.segment<12>(12 * b);
+    else
+      x_.segment<12>(12 * b) += settings_.ccd_safety * a * dq_.segment<12>(12 * b);
+  }
+  for (const auto& t : terms_) t->update(x_);
+  links.clear();
+  for (const auto& t : terms_) t->body_links(movable_, links);
+  for (const BodyLink& l : links) merge_islands(l.a, l.b);
+  if (!split) return;
+  // Islands with nothing near along the whole move, at their free solution: solved.
+  std::vector<unsigned char> free_island(n_, 1);
+  for (int b = 0; b < n_; ++b)
+    if (movable_[b] && (near[b] || !free_ok_[b] || driven_[b] || alpha_[island(b)] < 1.0))
+      free_island[island(b)] = 0;
+  for (int b = 0; b < n_; ++b)
+    if (movable_[b] && free_island[island(b)]) frozen_[b] = converged_[b] = 1;
+}
+
+// IPC's adaptive κ: balance the barrier's gradient against the rest of Π's at the start
+// iterate, whenever contact is active there. κ never decreases during a simulation (a
+// barrier that softened between steps would let resting bodies sink); update() may still
+// double it within a step.
+void World::initialize_contact_stiffness(double c2) {
+  if (!contact_ || !contact_->adaptive_kappa()) return;
+  const ContactCounts c = contact_->counts();
+  if (c.point_triangle + c.edge_edge + c.point_ground == 0) return;
+  VecX grad_rest = VecX::Zero(12 * n_);
+  for (int b = 0; b < n_; ++b) {
+    if (!movable_[b]) continue;
+    Vec12 g;
+    body_energy(b, x_.segment<12>(12 * b), c2, &g, nullptr);
+    grad_rest.segment<12>(12 * b) = g;
+  }
+  for (const auto& t : terms_)
+    if (t.get() != contact_.get()) t->add_gradient(x_, c2, grad_rest);
+  for (int b = 0; b < n_; ++b)
+    if (!movable_[b]) grad_rest.segment<12>(12 * b).setZero();
+  const double previous = contact_->kappa();
+  contact_->initialize_kappa(x_, grad_rest);
+  if (contact_->kappa() < previous) contact_->set_kappa(previous);
+}
+
+void World::solve_coupled(double c2, StepDiagnostics& d) {
+  const double h = scene_.dt;
+  bool split = true;
+  for (const auto& t : terms_) split = split && t->splits_by_body();
+  const StepContext ctx{h, q_, q_dot_, c2};
+  for (const auto& t : terms_) t->begin_step(ctx);
+
+  x_free_.resize(12 * n_);
+  trial_.resize(12 * n_);
+  grad_.resize(12 * n_);
+  dq_.resize(12 * n_);
+  free_ok_.assign(n_, 0);
+  driven_.assign(n_, 0);
+  parent_.resize(n_);
+  std::iota(parent_.begin(), parent_.end(), 0);
+  frozen_.assign(n_, 0);
+  converged_.assign(n_, 0);
+  pending_.assign(n_, 0);
+  alpha_.setOnes(n_);
+  bound_.setOnes(n_);
+
+  // 1. Free per-body solutions.
+  std::vector<int> free_iterations(n_, 0);
+  parallel_for(n_, threads_, [&](int b) {
+    if (constrained_[b]) return;
+    Vec12 x = x_pred_.segment<12>(12 * b);
+    BodyNewton r;
+    newton_body(b, c2, x, r, nullptr);
+    free_ok_[b] = r.status == kConverged;
+    x_free_.segment<12>(12 * b) = free_ok_[b] ? x : Vec12(x_pred_.segment<12>(12 * b));
+    free_iterations[b] = r.iterations;
+  });
+  for (int b = 0; b < n_; ++b) d.total_body_iterations += free_iterations[b];
+
+  // 2. Kinematic bodies; 3. the start iterate.
+  x_ = q_;
+  place_kinematic_bodies(d);
+  movable_.assign(n_, 0);
+  for (int b = 0; b < n_; ++b) movable_[b] = !constrained_[b];
+  start_iterate(split, c2, d);
+  initialize_contact_stiffness(c2);
+
+  // 4. Newton, island by island in lockstep.
+  std::vector<BodyLink> links;
+  double rest = body_energies(x_, c2, body_E_, links);
+  for (const BodyLink& l : links) merge_islands(l.a, l.b);
+  std::vector<std::uint8_t> inactive(n_, 1);
+  VecX island_st(n_), island_sa(n_);
+  std::string solver_used;
+  bool all_done = false;
+  for (int b = 0; b < n_; ++b)
+    if (movable_[b] && !frozen_[island(b)]) ++d.coupled_bodies;
+
+  for (int it = 0; it < settings_.max_newton_iterations; ++it) {
+    int n_active = 0;
+    for (int b = 0; b < n_; ++b) {
+      inactive[b] = !(movable_[b] && !frozen_[island(b)]);
+      n_active += !inactive[b];
+    }
+    if (n_active == 0) {
+      all_done = true;
+      break;
+    }
+    if (it == 0) {
+      for (int b = 0; b < n_; ++b)
+        if (!inactive[b] && island(b) == b) ++d.islands;
+    }
+    d.newton_iterations = it + 1;
+    d.total_body_iterations += n_active;
+
+    // Assemble and solve.
+    system_.reset(n_, inactive);
+    parallel_for(n_, threads_, [&](int b) {
+      Mat12& H = system_.diagonal(b);
+      if (inactive[b]) {
+        H.setZero();
+        grad_.segment<12>(12 * b).setZero();
+        return;
+      }
+      Vec12 g;
+      body_energy(b, x_.segment<12>(12 * b), c2, &g, &H);
+      grad_.segment<12>(12 * b) = g;
+    });
+    blocks_.clear();
+    for (const auto& t : terms_) {
+      t->add_gradient(x_, c2, grad_);
+      t->add_hessian(x_, c2, blocks_);
+    }
+    for (int b = 0; b < n_; ++b)
+      if (inactive[b]) grad_.segment<12>(12 * b).setZero();
+    if (!grad_.allFinite()) throw SolverError("the gradient of Π is not finite");
+    system_.add_blocks(blocks_);
+    system_.finalize();
+    d.residual = grad_.cwiseAbs().maxCoeff();
+
+    const VecX rhs = -grad_;
+    LinearSolverKind kind = settings_.linear_solver;
+    const bool per_body = kind == LinearSolverKind::kAuto && !system_.coupled();
+    if (kind == LinearSolverKind::kAuto)
+      kind = 12 * n_active <= settings_.direct_max_dofs ? LinearSolverKind::kDirect
+                                                        : LinearSolverKind::kPCG;
+    if (per_body) {
+      solver_used = "block_diagonal";
+      const int bad = system_.solve_block_diagonal(rhs, dq_, threads_);
+      if (bad >= 0)
+        throw SolverError("Newton failed at step " + std::to_string(step_count_) + ": the 12x12 "
+                          "Newton matrix of " + describe(bad) + " is not positive definite" +
+                          (external_kinetic_[bad] ? " (external_kinetic = 1 and no energy term "
+                                                    "holds it)"
+                                                  : ""));
+    } else if (kind == LinearSolverKind::kDirect) {
+      solver_used = "direct";
+      system_.solve_direct(rhs, dq_);
+    } else {
+      solver_used = "pcg";
+      d.pcg_iterations += system_.solve_pcg(rhs, dq_, settings_.pcg_tolerance,
+                                            settings_.pcg_max_iterations, threads_);
+    }
+    if (!dq_.allFinite()) throw SolverError("the Newton direction is not finite");
+
+    // Per-island convergence test on the direction.
+    island_st.setZero();
+    island_sa.setZero();
+    d.step_translation = d.step_affine = 0.0;
+    for (int b = 0; b < n_; ++b) {
+      if (inactive[b]) continue;
+      double st, sa;
+      step_sizes(dq_.segment<12>(12 * b), h, st, sa);
+      const int r = island(b);
+      island_st[r] = std::max(island_st[r], st);
+      island_sa[r] = std::max(island_sa[r], sa);
+      d.step_translation = std::max(d.step_translation, st);
+      d.step_affine = std::max(d.step_affine, sa);
+    }
+    for (int b = 0; b < n_; ++b)
+      if (!inactive[b] && island(b) == b)
+        converged_[b] = island_st[b] <= settings_.tol_translation &&
+                        island_sa[b] <= settings_.tol_affine;
+
+    // Step bounds (CCD) and links along the direction.
+    std::vector<unsigned char> near;
+    links.clear();
+    const double global = step_bounds(x_, dq_, movable_, near, links);
+    for (const BodyLink& l : links) merge_islands(l.a, l.b);
+    // Islands moving now (a frozen island merged into an active one moves with it).
+    for (int b = 0; b < n_; ++b) inactive[b] = !(movable_[b] && !frozen_[island(b)]);
+    for (int b = 0; b < n_; ++b)
+      if (!inactive[b] && island(b) == b) alpha_[b] = 1.0;
+    for (int b = 0; b < n_; ++b)
+      if (!inactive[b]) {
+        const int r = island(b);
+        alpha_[r] = std::min({alpha_[r], bound_[b], global});
+      }
+    for (int b = 0; b < n_; ++b)
+      if (!inactive[b] && island(b) == b) {
+        d.min_term_max_step = std::min(d.min_term_max_step, alpha_[b]);
+        if (alpha_[b] < 1.0) alpha_[b] *= settings_.ccd_safety;
+        pending_[b] = 1;
+      }
+
+    // Armijo line search, per island, all islands per contact query.
+    island_E_.setZero(n_);
+    island_slope_.setZero(n_);
+    for (int b = 0; b < n_; ++b) {
+      if (inactive[b]) continue;
+      const int r = island(b);
+      island_E_[r] += body_E_[b];
+      island_slope_[r] += grad_.segment<12>(12 * b).dot(dq_.segment<12>(12 * b));
+    }
+    // Terms that do not split couple everything: a single island carries their energy.
+    int rest_root = -1;
+    for (int b = 0; b < n_ && rest_root < 0; ++b)
+      if (movable_[b]) rest_root = island(b);
+    if (!split && rest_root >= 0) island_E_[rest_root] += rest;
+
+    double rest_new = rest;
+    bool failed = false;
+    for (int ls = 0; ls <= settings_.max_line_search_iterations; ++ls) {
+      trial_ = x_;
+      for (int b = 0; b < n_; ++b)
+        if (!inactive[b]) trial_.segment<12>(12 * b) += alpha_[island(b)] * dq_.segment<12>(12 * b);
+      links.clear();
+      rest_new = body_energies(trial_, c2, body_E_new_, links);
+      bool merged = false;
+      for (const BodyLink& l : links) merged = merge_islands(l.a, l.b) || merged;
+      if (merged) {  // not expected (the step bounds linked every pair in reach): start over
+        island_E_.setZero(n_);
+        island_slope_.setZero(n_);
+        for (int b = 0; b < n_; ++b) {
+          inactive[b] = !(movable_[b] && !frozen_[island(b)]);
+          if (inactive[b]) continue;
+          const int r = island(b);
+          island_E_[r] += body_E_[b];
+          island_slope_[r] += grad_.segment<12>(12 * b).dot(dq_.segment<12>(12 * b));
+        }
+        if (!split && rest_root >= 0) island_E_[rest_root] += rest;
+        continue;
+      }
+      island_E_new_.setZero(n_);
+      for (int b = 0; b < n_; ++b)
+        if (!inactive[b]) island_E_new_[island(b)] += body_E_new_[b];
+      if (!split && rest_root >= 0) island_E_new_[rest_root] += rest_new;
+      bool any_pending = false;
+      for (int r = 0; r < n_; ++r) {
+        if (inactive[r] || island(r) != r || !pending_[r]) continue;
+        const double E0 = island_E_[r];
+        if (island_E_new_[r] <= E0 + settings_.armijo_c * alpha_[r] * island_slope_[r] +
+                                    roundoff(E0)) {
+          pending_[r] = 0;
+        } else if (ls == settings_.max_line_search_iterations) {
+          failed = true;
+        } else {
+          alpha_[r] *= 0.5;
+          any_pending = true;
+        }
+      }
+      if (!any_pending) break;
+    }
+    if (failed) {
+      // A converged island whose step does not decrease Π just stays; any other fails.
+      for (int r = 0; r < n_; ++r) {
+        if (inactive[r] || island(r) != r || !pending_[r]) continue;
+        if (!converged_[r]) {
+          std::ostringstream msg;
+          msg << "Newton failed at step " << step_count_ << " (t = " << time_
+              << "): the line search found no decrease of Π in "
+              << settings_.max_line_search_iterations << " halvings (iteration " << it + 1
+              << ", " << describe(r) << " and the bodies coupled to it, step bound "
+              << std::min(bound_[r], global) << ", last step " << island_st[r] << " m/s, "
+              << island_sa[r] << " 1/s)";
+          throw SolverError(msg.str());
+        }
+        alpha_[r] = 0.0;
+        pending_[r] = 0;
+      }
+      trial_ = x_;
+      for (int b = 0; b < n_; ++b)
+        if (!inactive[b]) trial_.segment<12>(12 * b) += alpha_[island(b)] * dq_.segment<12>(12 * b);
+      links.clear();
+      rest_new = body_energies(trial_, c2, body_E_new_, links);
+    }
+    double min_alpha = 1.0;
+    for (int r = 0; r < n_; ++r)
+      if (!inactive[r] && island(r) == r) min_alpha = std::min(min_alpha, alpha_[r]);
+    d.line_search_alphas.push_back(min_alpha);
+    x_.swap(trial_);
+    body_E_.swap(body_E_new_);
+    rest = rest_new;
+
+    // Accept: terms see the new iterate; islands they now link iterate again together.
+    const double kappa_before = contact_ ? contact_->kappa() : 0.0;
+    for (const auto& t : terms_) t->update(x_);
+    for (int r = 0; r < n_; ++r)
+      if (!inactive[r] && island(r) == r && converged_[r]) frozen_[r] = 1;
+    links.clear();
+    for (const auto& t : terms_) t->body_links(movable_, links);
+    for (const BodyLink& l : links) merge_islands(l.a, l.b);
+    if (contact_ && contact_->kappa() != kappa_before) {  // adaptive κ doubled: Π changed
+      links.clear();
+      rest = body_energies(x_, c2, body_E_, links);
+      for (const BodyLink& l : links) merge_islands(l.a, l.b);
+    }
+  }
+  if (!all_done) {
+    bool remaining = false;
+    for (int b = 0; b < n_ && !remaining; ++b) remaining = movable_[b] && !frozen_[island(b)];
+    if (remaining) {
+      std::ostringstream msg;
+      msg << "Newton did not converge in " << settings_.max_newton_iterations
+          << " iterations at step " << step_count_ << " (t = " << time_ << "): last step "
+          << d.step_translation << " m/s, " << d.step_affine << " 1/s (tolerances "
+          << settings_.tol_translation << ", " << settings_.tol_affine << "), residual "
+          << d.residual;
+      throw SolverError(msg.str());
+    }
+  }
+  d.converged = true;
+  d.linear_solver = solver_used.empty() ? "block_diagonal" : solver_used;
+
+  // Driven kinematic bodies: how far each vertex was left from its target.
+  for (int b = 0; b < n_; ++b) {
+    if (!driven_[b]) continue;
+    const Vec12 lag = x_.segment<12>(12 * b) - q_tilde_.segment<12>(12 * b);
+    double worst = lag.head<3>().norm();
+    if (!scene_.geometries.empty()) {
+      const MatX3& rest_vertices = scene_.geometries[scene_.bodies[b].geometry].rest_vertices;
+      for (Eigen::Index v = 0; v < rest_vertices.rows(); ++v)
+        worst = std::max(worst, affine_point(lag, rest_vertices.row(v).transpose()).norm());
+    }
+    if (worst > d.kinematic_lag) {
+      d.kinematic_lag = worst;
+      d.kinematic_lag_body = b;
+    }
+  }
+
+  std::vector<double> parts;
+  const double E = total_energy(x_, c2, &parts);
+  d.energies = {{"kinetic", parts[0]}, {"shape", parts[1]}};
+  if (d.driven_bodies > 0) d.energies.emplace_back("kinematic_drive", parts[2]);
+  for (std::size_t k = 0; k < terms_.size(); ++k)
+    d.energies.emplace_back(terms_[k]->name(), parts[3 + k]);
+  d.energies.emplace_back("total", E);
+}
+
+}  // namespace abd
