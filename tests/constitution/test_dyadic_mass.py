@@ -159,12 +159,21 @@ def test_shell_of_closed_surface_approaches_thin_hollow_box():
 @pytest.mark.parametrize(
     "make",
     [
-        lambda: (abdsim.AffineBodyShell(), abdsim.geometry.triangle_mesh(
-            [[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]), {"thickness": 1e-4}),
-        lambda: (abdsim.AffineBodyRod(), abdsim.geometry.edge_mesh(
-            [[0, 0, 0], [1, 0, 0]], [[0, 1]]), {"thickness": 1e-4}),
-        lambda: (abdsim.AffineBodyRod(), abdsim.geometry.edge_mesh(
-            [[0, 0, 0], [1, 0, 0], [1, 1, 0]], [[0, 1], [1, 2]]), {"thickness": 1e-3}),
+        lambda: (
+            abdsim.AffineBodyShell(),
+            abdsim.geometry.triangle_mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]),
+            {"thickness": 1e-4},
+        ),
+        lambda: (
+            abdsim.AffineBodyRod(),
+            abdsim.geometry.edge_mesh([[0, 0, 0], [1, 0, 0]], [[0, 1]]),
+            {"thickness": 1e-4},
+        ),
+        lambda: (
+            abdsim.AffineBodyRod(),
+            abdsim.geometry.edge_mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0]], [[0, 1], [1, 2]]),
+            {"thickness": 1e-3},
+        ),
         lambda: (abdsim.AffineBodyConstitution("ARAP"), abdsim.geometry.sphere(0.1), {}),
     ],
     ids=["thin-shell", "thin-rod", "bent-rod", "sphere"],

@@ -37,8 +37,9 @@ def test_to_then_from_rigid_body_recovers_dyadic_mass():
     abdsim.AffineBodyConstitution().apply_to(sc, kappa=1e8, mass_density=800.0)
     rb = abdsim.to_rigid_body(sc)
     dm = abdsim.from_rigid_body(*rb)
-    np.testing.assert_allclose(dm.abd_mass_x_bar_x_bar, sc.meta["abd_mass_x_bar_x_bar"],
-                               rtol=1e-10, atol=1e-14)
+    np.testing.assert_allclose(
+        dm.abd_mass_x_bar_x_bar, sc.meta["abd_mass_x_bar_x_bar"], rtol=1e-10, atol=1e-14
+    )
     np.testing.assert_allclose(dm.abd_mass_x_bar, sc.meta["abd_mass_x_bar"], atol=1e-15)
 
 

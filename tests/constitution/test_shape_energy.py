@@ -15,8 +15,11 @@ def q_of(A, p=(0.1, -0.2, 0.3)):
 
 def sample_As(rng, random_rotation):
     near = [random_rotation(rng) @ (np.eye(3) + 1e-2 * rng.normal(size=(3, 3))) for _ in range(3)]
-    strong = [random_rotation(rng) @ np.diag(rng.uniform(0.4, 1.8, 3)) @ random_rotation(rng)
-              + 0.3 * rng.normal(size=(3, 3)) for _ in range(3)]
+    strong = [
+        random_rotation(rng) @ np.diag(rng.uniform(0.4, 1.8, 3)) @ random_rotation(rng)
+        + 0.3 * rng.normal(size=(3, 3))
+        for _ in range(3)
+    ]
     return near + strong
 
 
@@ -52,8 +55,9 @@ def test_hessian_matches_finite_differences(name, rng, random_rotation):
         for i in range(12):
             d = np.zeros(12)
             d[i] = h
-            H_fd[:, i] = (c.energy(q + d, KAPPA, VOLUME).gradient
-                          - c.energy(q - d, KAPPA, VOLUME).gradient) / (2 * h)
+            H_fd[:, i] = (
+                c.energy(q + d, KAPPA, VOLUME).gradient - c.energy(q - d, KAPPA, VOLUME).gradient
+            ) / (2 * h)
         assert np.abs(H - H_fd).max() <= 1e-5 * np.abs(H).max()
         np.testing.assert_allclose(H, H.T, atol=1e-9 * np.abs(H).max())
 

@@ -1,0 +1,104 @@
+"""The ``abdsim validate`` subcommand (registered by ``abdsim.cli``)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+
+def _factor(text: str) -> tuple[str, float]:
+    name, _, value = text.partition("=")
+    try:
+        return name, float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected BODY=FACTOR, got {text!r}") from None
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    p = subparsers.add_parser(
+        "validate",
+        help="run a scene in abdsim, MuJoCo and Pinocchio and compare them",
+        description="Cross-validate abdsim against MuJoCo and Pinocchio on an MJCF/URDF scene "
+        "(default: the bundled tossed-bodies scene). Writes report.md, metrics.json, PNG plots "
+        "and run.mcap to --out; exits non-zero when a tolerance is exceeded.",
+    )
+    p.add_argument("scene", nargs="?", help="MJCF (.xml) or URDF (.urdf) file")
+    p.add_argument("--duration", type=float, default=2.0, help="simulated time [s] (2.0)")
+    p.add_argument("--dt", type=float, default=1e-3, help="time step [s] (1e-3)")
+    p.add_argument("--out", default="abdsim_validation", help="output folder")
+    p.add_argument("--tolerances", help="JSON/TOML file overriding tolerances")
+    p.add_argument("--integrator", choices=["bdf1", "bdf2"], default="bdf2")
+    p.add_argument("--no-mcap", action="store_true", help="skip writing run.mcap")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.add_argument(
+        "--perturb-inertia",
+        type=_factor,
+        action="append",
+        metavar="BODY=FACTOR",
+        help="scale a body's inertia in abdsim only (to see the harness fail)",
+    )
+    p.add_argument(
+        "--sweep",
+        action="store_true",
+        help="validate every bundled scene (or SCENE) at several time steps in parallel processes",
+    )
+    p.add_argument("--sweep-dt", type=float, nargs="+", default=[1e-3, 2e-3])
+    p.add_argument("--workers", type=int, default=None, help="processes for --sweep")
+    p.add_argument(
+        "--list-tolerances", action="store_true", help="print the default tolerances and exit"
+    )
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    from abdsim.validation.tolerances import Tolerances
+
+    if args.list_tolerances:
+        print(json.dumps(Tolerances().as_dict(), indent=2))
+        return 0
+    if args.sweep:
+        from abdsim.validation.sweep import default_cases, run_sweep, summary_table
+
+        cases = default_cases(
+            args.out, args.duration, tuple(args.sweep_dt), [args.scene] if args.scene else None
+        )
+        rows = run_sweep(cases, max_workers=args.workers, progress=not args.quiet)
+        table = summary_table(rows)
+        Path(args.out).mkdir(parents=True, exist_ok=True)
+        (Path(args.out) / "sweep.md").write_text(table + "\n")
+        print(table)
+        return 0 if all(r["passed"] for r in rows) else 1
+
+    from abdsim.validation.harness import validate
+
+    res = validate(
+        args.scene,
+        duration=args.duration,
+        dt=args.dt,
+        out=args.out,
+        tolerances=args.tolerances,
+        integrator=args.integrator,
+        progress=not args.quiet,
+        mcap=not args.no_mcap,
+        perturb_inertia=dict(args.perturb_inertia or []),
+    )
+    n_fail = len(res.failed)
+    print(
+        f"{'PASSED' if res.passed else 'FAILED'}: {len(res.checks) - n_fail}/{len(res.checks)} "
+        f"checks within tolerance"
+    )
+    for c in res.failed[:10]:
+        print(
+            f"  ✗ {c.name} [{c.body}]: {c.value:.3g} (limit {c.kind} {c.limit:.3g})",
+            file=sys.stderr,
+        )
+    t = res.metrics["timing"]
+    print(
+        f"abdsim {t['simulators']['abdsim']['steps_per_s']:.0f} steps/s, MuJoCo "
+        f"{t['simulators']['mujoco']['steps_per_s']:.0f} steps/s"
+    )
+    print(f"report: {res.report}")
+    return 0 if res.passed else 1

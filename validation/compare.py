@@ -1,0 +1,184 @@
+"""Turns trajectories and mass properties into named checks with measured values and limits."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from abdsim.validation.tolerances import Tolerances
+from abdsim.validation.trajectory import Trajectory, rotation_angle
+
+
+@dataclass
+class Check:
+    """One measured quantity against its limit. ``kind`` is ``"max"`` or ``"min"``."""
+
+    name: str
+    body: str
+    value: float
+    limit: float
+    kind: str = "max"
+    detail: str = ""
+
+    @property
+    def passed(self) -> bool:
+        if not np.isfinite(self.value):
+            return False
+        return self.value <= self.limit if self.kind == "max" else self.value > self.limit
+
+    def as_dict(self) -> dict:
+        d = asdict(self)
+        d["passed"] = self.passed
+        return d
+
+
+def relative_error(a: np.ndarray, b: np.ndarray) -> float:
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    return float(np.max(np.abs(a - b)) / max(float(np.max(np.abs(b))), 1e-300))
+
+
+def inertia_checks(
+    names: list[str], abd: list[tuple], ref: list[tuple], tol: Tolerances, reference: str
+) -> tuple[list[Check], list[dict]]:
+    """Mass, centre and inertia of each body against a reference (mass, centre, inertia)."""
+    checks, rows = [], []
+    for name, (ma, ca, ia), (mr, cr, ir) in zip(names, abd, ref, strict=True):
+        scale = max(np.linalg.norm(cr), 1e-3)  # centre error relative to the body's size
+        e_mass = relative_error(ma, mr)
+        e_center = float(np.linalg.norm(np.asarray(ca) - cr) / scale)
+        e_inertia = relative_error(ia, ir)
+        worst = max(e_mass, e_center, e_inertia)
+        rows.append(
+            {
+                "body": name,
+                "reference": reference,
+                "mass": float(ma),
+                "mass_ref": float(mr),
+                "mass_rel_err": e_mass,
+                "center_rel_err": e_center,
+                "inertia_rel_err": e_inertia,
+            }
+        )
+        checks.append(
+            Check(
+                f"inertia vs {reference}",
+                name,
+                worst,
+                tol.inertia_rel,
+                detail=f"mass {e_mass:.2e}, centre {e_center:.2e}, inertia {e_inertia:.2e}",
+            )
+        )
+    return checks, rows
+
+
+def _window(traj: Trajectory, t_end: float) -> np.ndarray:
+    return traj.time <= t_end + 1e-12
+
+
+def free_flight_checks(
+    abd: Trajectory, mj: Trajectory, pin: Trajectory | None, t_free: float, tol: Tolerances
+) -> tuple[list[Check], dict]:
+    """abdsim against MuJoCo (and Pinocchio) up to ``t_free``, per body."""
+    wa, wm = _window(abd, t_free), _window(mj, t_free)
+    n = min(wa.sum(), wm.sum())
+    checks: list[Check] = []
+    per_body: dict[str, dict] = {}
+    pos = np.linalg.norm(abd.com[wa][:n] - mj.com[wm][:n], axis=-1).max(axis=0)
+    rot = rotation_angle(abd.rotation[wa][:n], mj.rotation[wm][:n]).max(axis=0)
+    if pin is not None:
+        wp = _window(pin, t_free)
+        m = min(n, wp.sum())
+        pos_pin = np.linalg.norm(abd.com[wa][:m] - pin.com[wp][:m], axis=-1).max(axis=0)
+        mj_pin = np.linalg.norm(mj.com[wm][:m] - pin.com[wp][:m], axis=-1).max(axis=0)
+    L = abd.angular_momentum[wa]
+    L0 = np.linalg.norm(L[0], axis=-1)
+    drift_L = np.linalg.norm(L - L[0], axis=-1).max(axis=0) / np.maximum(L0, 1e-12)
+    for i, name in enumerate(abd.names):
+        checks.append(
+            Check(
+                "free-flight position vs MuJoCo [m]", name, float(pos[i]), tol.free_flight_position
+            )
+        )
+        checks.append(
+            Check(
+                "free-flight orientation vs MuJoCo [rad]",
+                name,
+                float(rot[i]),
+                tol.free_flight_orientation,
+            )
+        )
+        body = {
+            "position_error_mujoco": float(pos[i]),
+            "orientation_error_mujoco": float(rot[i]),
+            "angular_momentum_drift": float(drift_L[i]),
+        }
+        if L0[i] > 1e-9:
+            checks.append(
+                Check(
+                    "free-flight angular momentum drift (rel)",
+                    name,
+                    float(drift_L[i]),
+                    tol.angular_momentum_drift,
+                )
+            )
+        if pin is not None:
+            checks.append(
+                Check(
+                    "free-flight position vs Pinocchio [m]",
+                    name,
+                    float(pos_pin[i]),
+                    tol.pinocchio_position,
+                )
+            )
+            body["position_error_pinocchio"] = float(pos_pin[i])
+            body["mujoco_vs_pinocchio"] = float(mj_pin[i])
+        per_body[name] = body
+    E = abd.energy[wa]
+    drift_E = float(np.max(np.abs(E - E[0])) / max(abs(E[0]), 1e-12))
+    checks.append(Check("free-flight energy drift (rel)", "all", drift_E, tol.energy_drift))
+    return checks, {"t_free": float(t_free), "energy_drift": drift_E, "bodies": per_body}
+
+
+def contact_checks(abd: Trajectory, mj: Trajectory, tol: Tolerances) -> tuple[list[Check], dict]:
+    """What both models claim once bodies touch: rest heights, first contact, gaps."""
+    checks: list[Check] = []
+    rest_abd, rest_mj = abd.com[-1, :, 2], mj.com[-1, :, 2]
+    speed_abd = np.linalg.norm(abd.linear_momentum[-1], axis=-1)
+    speed_mj = np.linalg.norm(mj.linear_momentum[-1], axis=-1)
+    min_gap = (
+        float(np.nanmin(abd.contact_distance))
+        if np.isfinite(abd.contact_distance).any()
+        else float("nan")
+    )
+    max_pen = (
+        float(-np.nanmin(mj.contact_distance)) if np.isfinite(mj.contact_distance).any() else 0.0
+    )
+    summary = {
+        "first_contact_abdsim": abd.first_contact_time(abd.extra.get("contact_threshold", 0.0)),
+        "first_contact_mujoco": mj.first_contact_time(),
+        "abdsim_min_contact_distance": min_gap,
+        "mujoco_max_penetration": max_pen,
+        "bodies": {},
+    }
+    for i, name in enumerate(abd.names):
+        dz = abs(float(rest_abd[i] - rest_mj[i]))
+        checks.append(Check("final centre height vs MuJoCo [m]", name, dz, tol.rest_height))
+        summary["bodies"][name] = {
+            "rest_height_abdsim": float(rest_abd[i]),
+            "rest_height_mujoco": float(rest_mj[i]),
+            "final_momentum_abdsim": float(speed_abd[i]),
+            "final_momentum_mujoco": float(speed_mj[i]),
+        }
+    if np.isfinite(min_gap):
+        checks.append(
+            Check(
+                "abdsim minimum contact distance [m]",
+                "all",
+                min_gap,
+                tol.min_contact_distance,
+                kind="min",
+                detail="intersection-free: every gap stays positive",
+            )
+        )
+    return checks, summary

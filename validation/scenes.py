@@ -1,0 +1,32 @@
+"""Scene files: the bundled default scene and file-type detection."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+SCENE_DIR = Path(__file__).resolve().parent / "scenes"
+DEFAULT_SCENE = "tossed_bodies.xml"
+
+
+def default_scene() -> Path:
+    """The bundled default scene (free bodies tossed with spin onto a ground plane)."""
+    return SCENE_DIR / DEFAULT_SCENE
+
+
+def bundled_scenes() -> list[Path]:
+    return sorted(SCENE_DIR.glob("*.xml"))
+
+
+def scene_kind(path: Path) -> str:
+    """``"mjcf"`` or ``"urdf"``; ValueError for anything else, FileNotFoundError if missing."""
+    if not path.is_file():
+        raise FileNotFoundError(f"scene file not found: {path}")
+    suffix = path.suffix.lower()
+    if suffix in (".xml", ".mjcf"):
+        return "mjcf"
+    if suffix == ".urdf":
+        return "urdf"
+    raise ValueError(
+        f"unknown scene file type {suffix!r} for {path}: expected an MJCF (.xml, .mjcf) or "
+        "URDF (.urdf) file"
+    )

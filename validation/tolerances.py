@@ -1,0 +1,69 @@
+"""Pass/fail thresholds of ``abdsim validate``: documented defaults, overridable by a file."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass, fields
+from pathlib import Path
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """Thresholds; a check fails when its measured value exceeds (or, for minima, falls below).
+
+    Free flight is compared up to the first contact of any body in the MuJoCo run.
+    """
+
+    #: relative error of mass, centre and inertia against MuJoCo's compiled model
+    inertia_rel: float = 1e-9
+    #: max centre-of-mass distance to MuJoCo RK4 during free flight [m]
+    free_flight_position: float = 1e-4
+    #: max orientation angle to MuJoCo RK4 during free flight [rad]
+    free_flight_orientation: float = 5e-3
+    #: max centre-of-mass distance to the Pinocchio RK4 reference during free flight [m]
+    pinocchio_position: float = 1e-4
+    #: max relative drift of each body's angular momentum during free flight
+    angular_momentum_drift: float = 1e-3
+    #: max relative drift of the total energy during free flight
+    energy_drift: float = 1e-3
+    #: max difference of each body's final centre-of-mass height to MuJoCo's [m]
+    rest_height: float = 5e-3
+    #: smallest admissible abdsim contact distance [m] (abdsim is intersection-free: > 0)
+    min_contact_distance: float = 0.0
+
+    @classmethod
+    def names(cls) -> list[str]:
+        return [f.name for f in fields(cls)]
+
+    @classmethod
+    def from_file(cls, path: str | Path) -> Tolerances:
+        """Read a JSON (or TOML) file of overrides; unknown keys are an error."""
+        path = Path(path)
+        if not path.is_file():
+            raise FileNotFoundError(f"tolerance file not found: {path}")
+        text = path.read_text()
+        if path.suffix == ".toml":
+            import tomllib
+
+            data = tomllib.loads(text)
+        else:
+            try:
+                data = json.loads(text)
+            except json.JSONDecodeError as err:
+                raise ValueError(f"tolerance file {path} is not valid JSON: {err}") from err
+        if not isinstance(data, dict):
+            raise ValueError(f"tolerance file {path} must hold an object of name: value")
+        unknown = sorted(set(data) - set(cls.names()))
+        if unknown:
+            raise ValueError(
+                f"unknown tolerance key(s) {unknown} in {path}; valid keys: {cls.names()}"
+            )
+        values = {}
+        for key, value in data.items():
+            if not isinstance(value, (int, float)) or isinstance(value, bool):
+                raise ValueError(f"tolerance {key!r} must be a number, got {value!r}")
+            values[key] = float(value)
+        return cls(**values)
+
+    def as_dict(self) -> dict[str, float]:
+        return asdict(self)
