@@ -83,6 +83,7 @@ def _plot(args: argparse.Namespace) -> int:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     from abdsim.bridges.log_reader import read_log
 
     data = read_log(args.file, namespace=args.namespace)

@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
+
 from abdsim.bridges._bodies import LoadResult, velocity_matrix
 
 Trajectory = Callable[[float], np.ndarray] | np.ndarray | Sequence[Sequence[float]]

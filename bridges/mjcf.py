@@ -29,6 +29,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+
 from abdsim.bridges._bodies import (
     Ground,
     LoadedBody,

@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
+
 from abdsim.bridges._bodies import (
     LoadedBody,
     LoaderError,
