@@ -91,7 +91,7 @@ def load_urdf(
     dirs = _package_dirs(urdf, package_dirs)
     root = _parse_xml(urdf)
     link_mass = _check_inertials(root, urdf)
-    _check_collision_meshes(root, urdf, dirs)
+    collisions = _check_collision_meshes(root, urdf, dirs)
 
     kwargs = {"package_dirs": [str(d) for d in dirs]}
     if floating_base:
@@ -104,6 +104,7 @@ def load_urdf(
         raise LoaderError(f"Pinocchio could not load URDF {urdf}: {e}") from e
     model, collision_model = built[0], built[1]
     data = model.createData()
+    _check_all_collisions_loaded(collision_model, model, collisions, urdf)
 
     q = _configuration(pin, model, q, "q", model.nq)
     v = np.zeros(model.nv) if v is None else _configuration(pin, model, v, "v", model.nv)
@@ -283,8 +284,10 @@ def _resolve_mesh(filename: str, urdf: Path, dirs: Sequence[Path]) -> Path | Non
     return p if p.is_file() else None
 
 
-def _check_collision_meshes(root: ET.Element, urdf: Path, dirs: Sequence[Path]) -> None:
-    known = {"box", "sphere", "cylinder", "capsule", "mesh"}
+def _check_collision_meshes(root: ET.Element, urdf: Path, dirs: Sequence[Path]) -> dict[str, int]:
+    """Every collision element is a supported shape with an existing mesh; counts per link."""
+    counts: dict[str, int] = {}
+    known = {"box", "sphere", "cylinder", "mesh"}  # what urdfdom parses
     for link in root.iter("link"):
         name = link.get("name", "?")
         for collision in link.findall("collision"):
@@ -298,6 +301,7 @@ def _check_collision_meshes(root: ET.Element, urdf: Path, dirs: Sequence[Path]) 
                     f"URDF {urdf.name}, link {name!r}: unsupported collision geometry <{tag}> "
                     f"(supported: {sorted(known)})"
                 )
+            counts[name] = counts.get(name, 0) + 1
             if tag == "mesh":
                 filename = shapes[0].get("filename", "")
                 if _resolve_mesh(filename, urdf, dirs) is None:
@@ -305,6 +309,21 @@ def _check_collision_meshes(root: ET.Element, urdf: Path, dirs: Sequence[Path]) 
                         f"URDF {urdf.name}, link {name!r}: collision mesh {filename!r} not found "
                         f"(searched package dirs {[str(d) for d in dirs]})"
                     )
+    return counts
+
+
+def _check_all_collisions_loaded(collision_model, model, expected: dict[str, int], urdf) -> None:
+    """urdfdom skips a collision element it cannot parse (printing to stderr): refuse that."""
+    loaded: dict[str, int] = {}
+    for g in collision_model.geometryObjects:
+        link = model.frames[int(g.parentFrame)].name
+        loaded[link] = loaded.get(link, 0) + 1
+    for link, n in expected.items():
+        if loaded.get(link, 0) != n:
+            raise LoaderError(
+                f"URDF {urdf.name}, link {link!r}: {n} <collision> element(s) but Pinocchio "
+                f"loaded {loaded.get(link, 0)} (an element it could not parse)"
+            )
 
 
 def _configuration(pin, model, value, what: str, n: int) -> np.ndarray:
