@@ -106,8 +106,8 @@ def test_test_arm_primitives_mesh_and_merged_fixed_links(data_dir, rel_err):
     m = 0.7
     c = (0.5 * c_arm + 0.2 * c_tool) / m
     inertia = sum(
-        I + mi * ((ci - c) @ (ci - c) * np.eye(3) - np.outer(ci - c, ci - c))
-        for mi, ci, I in ((0.5, c_arm, I_arm), (0.2, c_tool, I_tool))
+        inertia_i + mi * ((ci - c) @ (ci - c) * np.eye(3) - np.outer(ci - c, ci - c))
+        for mi, ci, inertia_i in ((0.5, c_arm, I_arm), (0.2, c_tool, I_tool))
     )
     rb = abdsim.to_rigid_body(arm.geometry)
     assert rel_err(rb.mass, m) < 1e-12
