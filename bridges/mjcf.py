@@ -122,7 +122,7 @@ def _compile(mujoco, mjcf: Path):
     except ValueError as e:
         message = str(e).strip()
         lowered = message.lower()
-        if "resource not found" in lowered or "could not open file" in lowered:
+        if any(k in lowered for k in ("resource not found", "could not open", "error opening")):
             raise FileNotFoundError(f"MJCF {mjcf}: {message}") from e
         raise LoaderError(f"MuJoCo could not load MJCF {mjcf}: {message}") from e
 
@@ -212,11 +212,10 @@ class _MjcfLoader:
                 grounds.append(Ground(height, n, self.geom_name(g), float(m.geom_friction[g, 0])))
                 continue
             if kind not in _PRIMITIVES and kind != "mesh":
-                where = "on a moving body " if kind == "plane" else ""
                 msg = (
                     f"geom {self.geom_name(g)!r} (body {self.body_name(b)!r}): unsupported geom "
-                    f"type {kind!r} {where}(supported: {sorted(_PRIMITIVES)} + mesh, plane on "
-                    "the world)"
+                    f"type {kind!r} (supported: {sorted(_PRIMITIVES)}, mesh, and plane on the "
+                    "world body)"
                 )
                 if not skip_unsupported:
                     raise LoaderError(msg)
