@@ -29,6 +29,8 @@ _EXPORTS = {
     "MjcfDriver": "drivers",
     "McapLogger": "mcap_log",
     "run_and_log": "mcap_log",
+    "step_and_log": "mcap_log",
+    "close_logs": "mcap_log",
     "LogData": "log_reader",
     "read_log": "log_reader",
     "log_info": "log_reader",
@@ -50,13 +52,15 @@ __all__ = [
     "log_info",
     "read_log",
     "run_and_log",
+    "step_and_log",
+    "close_logs",
 ]
 
 if TYPE_CHECKING:  # pragma: no cover
     from abdsim.bridges._bodies import BodyKind, Ground, LoadedBody, LoaderError, LoadResult
     from abdsim.bridges.drivers import KinematicDriver, MjcfDriver, RobotDriver
     from abdsim.bridges.log_reader import LogData, log_info, read_log
-    from abdsim.bridges.mcap_log import McapLogger, run_and_log
+    from abdsim.bridges.mcap_log import McapLogger, close_logs, run_and_log, step_and_log
     from abdsim.bridges.mjcf import load_mjcf
     from abdsim.bridges.urdf import load_urdf
 

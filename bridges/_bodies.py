@@ -153,15 +153,34 @@ class LoadResult:
         """The first ground plane, or None."""
         return self.grounds[0] if self.grounds else None
 
-    # -- scene --------------------------------------------------------------------------------
+    # -- scene ----------------------------------------------------------------------------
     @property
     def scene(self) -> Any:
-        """A ready ``abdsim.Scene`` holding every body (built on first access)."""
-        if self._scene is None:
-            from abdsim.bridges._world_adapter import build_scene
+        """A ready ``abdsim.Scene`` holding every body (built on first access).
 
-            self._scene = build_scene(self)
+        Body ``i`` of the scene is ``bodies[i]``; ``dt`` and ``gravity`` are the source's
+        (MJCF) or the Scene's defaults (URDF). See :meth:`build_scene` for other settings.
+        """
+        if self._scene is None:
+            self.build_scene()
         return self._scene
+
+    def build_scene(self, **settings: Any) -> Any:
+        """Build (and keep as :attr:`scene`) an ``abdsim.Scene`` with every body.
+
+        ``settings`` are Scene settings overriding the source's (``dt=...``, ...).
+        """
+        from abdsim.bridges._world_adapter import build_scene
+
+        self._scene = build_scene(self, **settings)
+        return self._scene
+
+    def make_world(self, **settings: Any) -> Any:
+        """An ``abdsim.World`` of a new :meth:`build_scene`; kinematic bodies are held at
+        their loaded poses until a driver moves them."""
+        from abdsim.bridges._world_adapter import make_world
+
+        return make_world(self, self.build_scene(**settings))
 
     def __repr__(self) -> str:
         kinds = {k: len(self.indices(k)) for k in BODY_KINDS}

@@ -1,15 +1,27 @@
 """The one place where bridges touch ``abdsim.Scene`` / ``abdsim.World``.
 
 Loaders, drivers and the logger call these functions instead of the World's methods, so a
-change of the World's API is absorbed here.
+change of the World's API is absorbed here. What is used:
+
+* ``abdsim.Scene(dt=..., gravity=..., **settings)``, ``scene.add(sc) -> handle`` (body
+  ``handle.start``), ``scene.geometries``, ``scene.settings``; ``scene.add_ground(height)``
+  when the Scene has it.
+* ``abdsim.World(scene)``, ``world.step(1)``, ``world.time``, ``world.step_count``,
+  ``world.scene``, ``world.transforms()``, ``world.velocities()``, ``world.diagnostics``,
+  ``world.set_kinematic_targets(bodies, transforms)`` (target at the end of the next step),
+  ``world.set_kinematic_schedule(body, t -> T)``.
 """
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+
+#: Scenes built from a LoadResult -> that result (body names and kinds for logging).
+_SOURCES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 @dataclass
@@ -22,37 +34,75 @@ class BodyDescription:
     triangles: np.ndarray
 
 
-def _scene_class() -> Any:
+def _abdsim_class(name: str) -> Any:
     import abdsim
 
-    scene = getattr(abdsim, "Scene", None)
-    if scene is None:
+    cls = getattr(abdsim, name, None)
+    if cls is None:
         raise RuntimeError(
-            "abdsim.Scene is not available in this version of abdsim: use "
+            f"abdsim.{name} is not available in this version of abdsim: use "
             "result.geometries (one SimplicialComplex per body) and result.dt / gravity / "
-            "grounds to build a scene by hand"
+            "grounds to set up a simulation by hand"
         )
+    return cls
+
+
+def _scene_settings_fields(scene_cls: Any) -> set[str]:
+    settings = getattr(__import__("abdsim"), "SceneSettings", None)
+    if settings is not None and hasattr(settings, "field_names"):
+        return set(settings.field_names())
+    return {"dt", "gravity"}
+
+
+def build_scene(result: Any, **settings: Any) -> Any:
+    """A Scene with every body of a LoadResult (body i = ``result.bodies[i]``).
+
+    The source's settings (``dt``, ``gravity``; a ground plane and friction where the Scene
+    supports them) are used unless ``settings`` overrides them.
+    """
+    scene_cls = _abdsim_class("Scene")
+    known = _scene_settings_fields(scene_cls)
+    kwargs: dict[str, Any] = {}
+    if result.dt is not None:
+        kwargs["dt"] = float(result.dt)
+    if result.gravity is not None:
+        kwargs["gravity"] = tuple(float(g) for g in result.gravity)
+    frictions = [g.friction for g in result.grounds if g.friction is not None]
+    frictions += [b.friction for b in result.bodies if b.friction is not None]
+    if frictions and "friction" in known:
+        kwargs["friction"] = float(max(frictions))  # MuJoCo combines a pair by the max
+    kwargs.update(settings)
+    scene = scene_cls(**kwargs)
+    for i, body in enumerate(result.bodies):
+        handle = scene.add(body.geometry)
+        start = getattr(handle, "start", i)
+        if start != i:  # pragma: no cover - a fresh scene numbers bodies from 0
+            raise RuntimeError(f"body {body.name!r} got index {start}, expected {i}")
+    add_ground = getattr(scene, "add_ground", None)
+    for ground in result.grounds:
+        if add_ground is None:
+            break
+        if not np.allclose(ground.normal, [0.0, 0.0, 1.0], atol=1e-12):
+            raise ValueError(
+                f"ground {ground.name!r} is tilted (normal {ground.normal.tolist()}): only a "
+                "z-up ground is supported"
+            )
+        add_ground(float(ground.height))
+    _SOURCES[scene] = result
     return scene
 
 
-def build_scene(result: Any) -> Any:
-    """A Scene with every body of a LoadResult, in order, and the result's settings."""
-    scene = _scene_class()()
-    for body in result.bodies:
-        scene.add(body.geometry)
-    return scene
+def make_world(result: Any, scene: Any) -> Any:
+    """A World of ``scene`` whose kinematic bodies rest at their loaded poses until driven."""
+    world = _abdsim_class("World")(scene)
+    kinematic = result.indices("kinematic")
+    if kinematic:
+        T = result.transforms()[kinematic]
+        set_kinematic_targets(world, kinematic, T, np.zeros_like(T))
+    return world
 
 
 # -- descriptions -----------------------------------------------------------------------------
-def _expand(sc: Any, name: str, kind_of_instance) -> list[BodyDescription]:
-    out = []
-    n = sc.instance_count
-    for k in range(n):
-        label = name if n == 1 else f"{name}[{k}]"
-        out.append(BodyDescription(label, kind_of_instance(sc, k), sc.positions, sc.triangles))
-    return out
-
-
 def _instance_kind(sc: Any, k: int) -> str:
     inst = sc.instances
     if "is_fixed" in inst and int(inst["is_fixed"][k]):
@@ -60,8 +110,17 @@ def _instance_kind(sc: Any, k: int) -> str:
     return "dynamic"
 
 
+def _describe_geometries(geometries: list[Any]) -> list[BodyDescription]:
+    out = []
+    for sc in geometries:
+        for k in range(sc.instance_count):
+            name = f"body{len(out)}"
+            out.append(BodyDescription(name, _instance_kind(sc, k), sc.positions, sc.triangles))
+    return out
+
+
 def describe_bodies(source: Any) -> list[BodyDescription]:
-    """Bodies of a LoadResult, a Scene / World, or a list of SimplicialComplexes."""
+    """Bodies of a LoadResult, a Scene, a World, or a list of SimplicialComplexes."""
     from abdsim.bridges._bodies import LoadResult
 
     if isinstance(source, LoadResult):
@@ -69,64 +128,50 @@ def describe_bodies(source: Any) -> list[BodyDescription]:
             BodyDescription(b.name, b.kind, b.geometry.positions, b.geometry.triangles)
             for b in source.bodies
         ]
-    geometries = _geometries_of(source)
-    names = _names_of(source)
-    out: list[BodyDescription] = []
-    for i, sc in enumerate(geometries):
-        out.extend(_expand(sc, f"body{i}" if names is None else "", _instance_kind))
-    if names is not None:
-        if len(names) != len(out):
-            raise ValueError(f"{len(names)} body names for {len(out)} bodies")
-        for d, name in zip(out, names, strict=True):
-            d.name = name
-    else:
-        for i, d in enumerate(out):
-            d.name = f"body{i}"
+    if isinstance(source, (list, tuple)):
+        return _describe_geometries(list(source))
+    scene = getattr(source, "scene", source)
+    geometries = getattr(scene, "geometries", None)
+    if geometries is None:
+        raise TypeError(
+            f"cannot find the bodies of a {type(source).__name__}: pass a World, a Scene, a "
+            "LoadResult or a list of SimplicialComplexes"
+        )
+    out = _describe_geometries(list(geometries() if callable(geometries) else geometries))
+    result = _SOURCES.get(scene) if _is_weakrefable(scene) else None
+    if result is not None:
+        for d, body in zip(out, result.bodies, strict=False):
+            d.name, d.kind = body.name, body.kind
     return out
 
 
-def _geometries_of(source: Any) -> list[Any]:
-    if isinstance(source, (list, tuple)):
-        return list(source)
-    for holder in (source, getattr(source, "scene", None)):
-        if holder is None:
-            continue
-        geoms = getattr(holder, "geometries", None)
-        if geoms is not None:
-            return list(geoms() if callable(geoms) else geoms)
-    raise TypeError(
-        f"cannot find the bodies of a {type(source).__name__}: pass a World, a Scene, a "
-        "LoadResult or a list of SimplicialComplexes"
-    )
-
-
-def _names_of(source: Any) -> list[str] | None:
-    for holder in (source, getattr(source, "scene", None)):
-        names = getattr(holder, "body_names", None) if holder is not None else None
-        if names is not None:
-            return list(names() if callable(names) else names)
-    return None
+def _is_weakrefable(obj: Any) -> bool:
+    try:
+        weakref.ref(obj)
+    except TypeError:
+        return False
+    return True
 
 
 # -- world state ------------------------------------------------------------------------------
+def _value(obj: Any, name: str) -> Any:
+    v = getattr(obj, name)
+    return v() if callable(v) else v
+
+
 def world_time(world: Any) -> float:
-    t = world.time
-    return float(t() if callable(t) else t)
+    return float(_value(world, "time"))
 
 
 def world_dt(world: Any) -> float:
-    for holder in (world, getattr(world, "scene", None), getattr(world, "settings", None)):
-        dt = getattr(holder, "dt", None) if holder is not None else None
-        if dt is not None:
-            return float(dt() if callable(dt) else dt)
-    raise AttributeError("cannot find the World's time step (dt)")
+    scene = getattr(world, "scene", None)
+    if scene is not None and getattr(scene, "dt", None) is not None:
+        return float(_value(scene, "dt"))
+    return float(_value(world, "dt"))
 
 
 def world_step_count(world: Any) -> int | None:
-    n = getattr(world, "step_count", None)
-    if n is None:
-        return None
-    return int(n() if callable(n) else n)
+    return int(_value(world, "step_count")) if hasattr(world, "step_count") else None
 
 
 def world_transforms(world: Any) -> np.ndarray:
@@ -134,15 +179,13 @@ def world_transforms(world: Any) -> np.ndarray:
 
 
 def world_velocities(world: Any) -> np.ndarray:
-    v = getattr(world, "velocities", None)
-    if v is None:
+    if not hasattr(world, "velocities"):
         return np.zeros_like(world_transforms(world))
-    return np.asarray(v() if callable(v) else v, dtype=np.float64)
+    return np.asarray(_value(world, "velocities"), dtype=np.float64)
 
 
 def world_diagnostics(world: Any) -> Any:
-    d = getattr(world, "diagnostics", None)
-    return d() if callable(d) else d
+    return _value(world, "diagnostics") if hasattr(world, "diagnostics") else None
 
 
 def world_step(world: Any) -> None:
@@ -152,10 +195,18 @@ def world_step(world: Any) -> None:
 def set_kinematic_targets(
     world: Any, bodies: list[int], transforms: np.ndarray, velocities: np.ndarray
 ) -> None:
+    """Targets at the end of the next step (the World derives velocities from the motion)."""
     setter = getattr(world, "set_kinematic_targets", None)
     if setter is None:
         raise RuntimeError(
             "this abdsim.World has no kinematic-target API (set_kinematic_targets); "
             "use driver.targets(t) to get the target poses"
         )
-    setter(bodies, transforms, velocities)
+    setter(np.asarray(bodies, dtype=np.int64), np.asarray(transforms, dtype=np.float64))
+
+
+def set_kinematic_schedule(world: Any, body: int, schedule: Any) -> None:
+    setter = getattr(world, "set_kinematic_schedule", None)
+    if setter is None:
+        raise RuntimeError("this abdsim.World has no set_kinematic_schedule")
+    setter(int(body), schedule)

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from abdsim.bridges._bodies import LoadResult, velocity_matrix
+from abdsim.bridges._bodies import LoadResult, skew, velocity_matrix
 
 Trajectory = Callable[[float], np.ndarray] | np.ndarray | Sequence[Sequence[float]]
 
@@ -175,19 +175,71 @@ class KinematicDriver:
             p = self.result.bodies[p].parent
         return None
 
-    def apply(self, world: Any, t: float | None = None) -> None:
-        """Set the World's kinematic targets for time ``t`` (default: the World's time)."""
+    def _world_targets(self, world: Any, t: float) -> np.ndarray:
         from abdsim.bridges import _world_adapter as adapter
 
-        if t is None:
-            t = adapter.world_time(world)
         anchors = velocities = None
         if any(self._dynamic_anchor(i) is not None for i in self.bodies):
             n, off = len(self.result.bodies), self.body_offset
-            anchors = adapter.world_transforms(world)[off : off + n]
             velocities = adapter.world_velocities(world)[off : off + n]
-        T, V = self.targets(t, anchors, velocities)
-        adapter.set_kinematic_targets(world, [self.body_offset + i for i in self.bodies], T, V)
+            # Predict the dynamic anchors at t (the end of the step) with their velocity.
+            lead = t - adapter.world_time(world)
+            anchors = predict_poses(
+                adapter.world_transforms(world)[off : off + n], velocities, lead
+            )
+        return self.targets(t, anchors, velocities)[0]
+
+    def apply(self, world: Any, t: float | None = None) -> None:
+        """Set the World's kinematic targets: the poses at ``t``, the end of the next step.
+
+        ``t`` defaults to ``world.time + dt``. Call before every ``world.step()`` (or use
+        :meth:`attach` once).
+        """
+        from abdsim.bridges import _world_adapter as adapter
+
+        if t is None:
+            t = adapter.world_time(world) + adapter.world_dt(world)
+        T = self._world_targets(world, t)
+        bodies = [self.body_offset + i for i in self.bodies]
+        adapter.set_kinematic_targets(world, bodies, T, np.zeros_like(T))
+
+    def attach(self, world: Any) -> None:
+        """Drive the World's kinematic bodies on every step from now on (kinematic schedules).
+
+        Forward kinematics runs once per step for all the bodies.
+        """
+        from abdsim.bridges import _world_adapter as adapter
+
+        cache: dict[str, Any] = {"t": None, "T": None}
+
+        def schedule_of(k: int):
+            def schedule(t: float) -> np.ndarray:
+                if cache["t"] != t:
+                    cache["T"], cache["t"] = self._world_targets(world, t), t
+                return cache["T"][k]
+
+            return schedule
+
+        for k, i in enumerate(self.bodies):
+            adapter.set_kinematic_schedule(world, self.body_offset + i, schedule_of(k))
+
+
+def predict_poses(T: np.ndarray, V: np.ndarray, lead: float) -> np.ndarray:
+    """Poses ``lead`` seconds ahead at constant twist: p + lead·ṗ, exp(lead·[ω]×) A."""
+    out = np.array(T, dtype=np.float64)
+    for i in range(len(out)):
+        A, A_dot = out[i, :3, :3], V[i, :3, :3]
+        W = A_dot @ np.linalg.inv(A)
+        w = 0.5 * np.array([W[2, 1] - W[1, 2], W[0, 2] - W[2, 0], W[1, 0] - W[0, 1]]) * lead
+        angle = float(np.linalg.norm(w))
+        K = skew(w)
+        if angle < 1e-12:
+            R = np.eye(3) + K
+        else:
+            R = np.eye(3) + np.sin(angle) / angle * K + (1 - np.cos(angle)) / angle**2 * K @ K
+        out[i, :3, :3] = R @ A
+        out[i, :3, 3] += lead * V[i, :3, 3]
+    return out
 
 
 class RobotDriver(KinematicDriver):

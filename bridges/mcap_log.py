@@ -29,10 +29,11 @@ file is truncated). Log times are simulated time in nanoseconds (plus ``time_off
 
 from __future__ import annotations
 
+import atexit
 import json
 import math
 import os
-import time as _time
+import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -394,12 +395,17 @@ class McapLogger:
         msg["timestamp"] = {"sec": t_ns // 1_000_000_000, "nsec": t_ns % 1_000_000_000}
         msg["time"] = float(time)
         if step is not None:
-            msg["step"] = int(step)
-        msg.setdefault("step", self._steps[entry.name] - 1)
+            msg.setdefault("step", int(step))
+        msg.setdefault("step", max(self._steps[entry.name] - 1, 0))
         self._channel(entry, "diagnostics").log(_dumps(msg), log_time=t_ns)
 
     def log_world(self, world: Any, *, namespace: str | None = None) -> None:
-        """Log a World's current time, transforms, velocities and last step's diagnostics."""
+        """Log a World's current time, transforms, velocities and last step's diagnostics.
+
+        The state's ``step`` is ``world.step_count`` (steps taken); the diagnostics message
+        carries the World's own fields (its ``step`` is the 0-based index of the last step)
+        plus ``min_distance`` where the World reports a minimum contact distance.
+        """
         from abdsim.bridges import _world_adapter as adapter
 
         t = adapter.world_time(world)
@@ -412,8 +418,15 @@ class McapLogger:
             namespace=namespace,
         )
         diag = adapter.world_diagnostics(world)
-        if diag is not None:
-            self.log_diagnostics(t, diag, step=step, namespace=namespace)
+        if diag is None:
+            return
+        msg = to_jsonable(diag)
+        if not isinstance(msg, dict):
+            msg = {"value": msg}
+        min_distance = getattr(world, "min_contact_distance", None)
+        if callable(min_distance) and "min_distance" not in msg:
+            msg["min_distance"] = to_jsonable(min_distance())
+        self.log_diagnostics(t, msg, namespace=namespace)
 
     # -- internals ---------------------------------------------------------------------------
     def _time_ns(self, time: float) -> int:
@@ -495,6 +508,71 @@ class McapLogger:
             pass
 
 
+#: World -> {resolved path: logger} for ``step_and_log`` (continuing logs across calls).
+_WORLD_LOGS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _logger_for(world: Any, log: str | os.PathLike | McapLogger, **options: Any) -> McapLogger:
+    if isinstance(log, McapLogger):
+        return log
+    path = str(Path(log).expanduser().resolve())
+    logs = _WORLD_LOGS.setdefault(world, {})
+    logger = logs.get(path)
+    if logger is None or logger._closed:
+        from abdsim.bridges import _world_adapter as adapter
+
+        logger = McapLogger(path, world, **options)
+        logger.log_state(
+            adapter.world_time(world),
+            adapter.world_transforms(world),
+            adapter.world_velocities(world),
+            step=adapter.world_step_count(world),
+        )
+        logs[path] = logger
+    return logger
+
+
+def step_and_log(
+    world: Any,
+    n: int,
+    log: str | os.PathLike | McapLogger,
+    *,
+    driver: Any = None,
+    log_every: int = 1,
+    **logger_options: Any,
+) -> Any:
+    """Step ``world`` ``n`` times, logging to ``log``; returns the last step's diagnostics.
+
+    ``log`` is a path or a :class:`McapLogger`. A path opens a logger (logging the current
+    state first) that stays attached to this World: later calls with the same path continue
+    the same file; :func:`close_logs` (or interpreter exit) finishes it. ``driver`` sets the
+    kinematic targets before each step; every ``log_every``-th step (and the last) is logged.
+    """
+    from abdsim.bridges import _world_adapter as adapter
+
+    if int(n) != n or int(n) < 1 or int(log_every) < 1:
+        raise ValueError(f"need n >= 1 and log_every >= 1, got n={n}, log_every={log_every}")
+    logger = _logger_for(world, log, **logger_options)
+    for k in range(int(n)):
+        if driver is not None:
+            driver.apply(world)
+        adapter.world_step(world)
+        if (k + 1) % int(log_every) == 0 or k + 1 == int(n):
+            logger.log_world(world)
+    return adapter.world_diagnostics(world)
+
+
+def close_logs(world: Any = None) -> None:
+    """Finish the logs ``step_and_log`` opened for ``world`` (every World if None)."""
+    worlds = [world] if world is not None else list(_WORLD_LOGS.keys())
+    for w in worlds:
+        for logger in _WORLD_LOGS.pop(w, {}).values():
+            logger.close()
+
+
+atexit.register(close_logs)
+
+
 def run_and_log(
     world: Any,
     n: int,
@@ -504,34 +582,24 @@ def run_and_log(
     log_every: int = 1,
     **logger_options: Any,
 ) -> Path:
-    """Step ``world`` ``n`` times, logging its initial state and every ``log_every``-th step.
+    """Step ``world`` ``n`` times into a new, finished log at ``path``; returns the path.
 
-    ``driver`` (a :class:`~abdsim.bridges.KinematicDriver`) sets the kinematic targets for
-    the end time of each step before it is taken. ``logger_options`` go to
-    :class:`McapLogger`. Returns the path of the log.
+    Logs the initial state, then every ``log_every``-th step (and the last): poses, twists
+    and the World's diagnostics. ``driver`` (a :class:`~abdsim.bridges.KinematicDriver`)
+    sets the kinematic targets before each step. ``logger_options`` go to
+    :class:`McapLogger`.
     """
-    from abdsim.bridges import _world_adapter as adapter
+    with McapLogger(path, world, **logger_options) as logger:
+        from abdsim.bridges import _world_adapter as adapter
 
-    if int(n) < 0 or int(log_every) < 1:
-        raise ValueError(f"need n >= 0 and log_every >= 1, got n={n}, log_every={log_every}")
-    with McapLogger(path, world, **logger_options) as log:
-        log.log_state(
+        logger.log_state(
             adapter.world_time(world),
             adapter.world_transforms(world),
             adapter.world_velocities(world),
             step=adapter.world_step_count(world),
         )
-        dt = adapter.world_dt(world)
-        for k in range(int(n)):
-            if driver is not None:
-                driver.apply(world, adapter.world_time(world) + dt)
-            wall = _time.perf_counter()
-            adapter.world_step(world)
-            wall = _time.perf_counter() - wall
-            if (k + 1) % int(log_every) == 0 or k + 1 == int(n):
-                log.log_world(world)
-                if adapter.world_diagnostics(world) is None:
-                    log.log_diagnostics(adapter.world_time(world), {"wall_time": wall})
+        if int(n) > 0:
+            step_and_log(world, n, logger, driver=driver, log_every=log_every)
     return Path(path)
 
 
