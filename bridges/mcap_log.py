@@ -629,38 +629,19 @@ def rotation_to_quat_xyzw(R: np.ndarray) -> np.ndarray:
         axis=1,
     )
     pick = np.argmax(candidates, axis=1)
+    s = 2.0 * np.sqrt(np.maximum(candidates[np.arange(len(R)), pick], 1e-300))
+    d21, d02, d10 = R[:, 2, 1] - R[:, 1, 2], R[:, 0, 2] - R[:, 2, 0], R[:, 1, 0] - R[:, 0, 1]
+    s01, s02, s12 = R[:, 0, 1] + R[:, 1, 0], R[:, 0, 2] + R[:, 2, 0], R[:, 1, 2] + R[:, 2, 1]
+    rows = {  # [x, y, z, w] * s for each choice of the largest component
+        0: (d21, d02, d10, s * s / 4),
+        1: (s * s / 4, s01, s02, d21),
+        2: (s01, s * s / 4, s12, d02),
+        3: (s02, s12, s * s / 4, d10),
+    }
     q = np.empty((len(R), 4))
-    for i, k in enumerate(pick):
-        r = R[i]
-        s = 2.0 * math.sqrt(max(candidates[i, k], 1e-300))
-        if k == 0:
-            q[i] = [
-                (r[2, 1] - r[1, 2]) / s,
-                (r[0, 2] - r[2, 0]) / s,
-                (r[1, 0] - r[0, 1]) / s,
-                s / 4,
-            ]
-        elif k == 1:
-            q[i] = [
-                s / 4,
-                (r[0, 1] + r[1, 0]) / s,
-                (r[0, 2] + r[2, 0]) / s,
-                (r[2, 1] - r[1, 2]) / s,
-            ]
-        elif k == 2:
-            q[i] = [
-                (r[0, 1] + r[1, 0]) / s,
-                s / 4,
-                (r[1, 2] + r[2, 1]) / s,
-                (r[0, 2] - r[2, 0]) / s,
-            ]
-        else:
-            q[i] = [
-                (r[0, 2] + r[2, 0]) / s,
-                (r[1, 2] + r[2, 1]) / s,
-                s / 4,
-                (r[1, 0] - r[0, 1]) / s,
-            ]
+    for k, cols in rows.items():
+        m = pick == k
+        q[m] = np.stack([c[m] for c in cols], axis=1) / s[m, None]
     q /= np.linalg.norm(q, axis=1, keepdims=True)
     q[q[:, 3] < 0] *= -1
     return q
