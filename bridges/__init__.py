@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 _EXPORTS = {
     "BodyKind": "_bodies",
     "Ground": "_bodies",
+    "JointInfo": "_bodies",
     "LoadedBody": "_bodies",
     "LoaderError": "_bodies",
     "LoadResult": "_bodies",
@@ -39,6 +40,7 @@ _EXPORTS = {
 __all__ = [
     "BodyKind",
     "Ground",
+    "JointInfo",
     "KinematicDriver",
     "LoadResult",
     "LoadedBody",
@@ -57,7 +59,14 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:  # pragma: no cover
-    from abdsim.bridges._bodies import BodyKind, Ground, LoadedBody, LoaderError, LoadResult
+    from abdsim.bridges._bodies import (
+        BodyKind,
+        Ground,
+        JointInfo,
+        LoadedBody,
+        LoaderError,
+        LoadResult,
+    )
     from abdsim.bridges.drivers import KinematicDriver, MjcfDriver, RobotDriver
     from abdsim.bridges.log_reader import LogData, log_info, read_log
     from abdsim.bridges.mcap_log import McapLogger, close_logs, run_and_log, step_and_log

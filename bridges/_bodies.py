@@ -75,6 +75,27 @@ class LoadedBody:
 
 
 @dataclass
+class JointInfo:
+    """A source joint between two loaded bodies, at the loaded configuration (world frame).
+
+    Attributes:
+        name: the source joint's name.
+        type: ``"revolute"``, ``"prismatic"``, ``"ball"``, ``"free"`` or ``"other"``.
+        parent: body index of the nearest loaded ancestor (None: the world).
+        child: body index the joint moves.
+        anchor: world position of the joint origin.
+        axis: world unit axis (revolute, prismatic), else None.
+    """
+
+    name: str
+    type: str
+    parent: int | None
+    child: int
+    anchor: np.ndarray
+    axis: np.ndarray | None = None
+
+
+@dataclass
 class Ground:
     """An infinite ground plane ``normal · x = height`` (MJCF ``plane`` geoms)."""
 
@@ -95,6 +116,7 @@ class LoadResult:
         dt: time step of the source (MJCF ``opt.timestep``), None where it has none.
         gravity: gravity of the source (MJCF ``opt.gravity``), None where it has none.
         grounds: ground planes (MJCF ``plane`` geoms).
+        joints: the source joints between loaded bodies (for joint energies / inspection).
         model: the source model (``pinocchio.Model`` or ``mujoco.MjModel``).
         collision_model: Pinocchio's ``GeometryModel`` (URDF only).
         q: the source configuration the bodies were placed at (Pinocchio ``q`` / MuJoCo
@@ -110,6 +132,7 @@ class LoadResult:
     dt: float | None = None
     gravity: np.ndarray | None = None
     grounds: list[Ground] = field(default_factory=list)
+    joints: list[JointInfo] = field(default_factory=list)
     model: Any = None
     collision_model: Any = None
     q: np.ndarray | None = None

@@ -32,6 +32,7 @@ import numpy as np
 
 from abdsim.bridges._bodies import (
     Ground,
+    JointInfo,
     LoadedBody,
     LoaderError,
     LoadResult,
@@ -97,7 +98,7 @@ def load_mjcf(
     mujoco.mj_forward(model, data)
 
     loader = _MjcfLoader(mujoco, model, data, kappa, constitution, open_mesh, notes=[])
-    bodies, grounds, source_map = loader.run(include_visual, skip_unsupported)
+    bodies, grounds, source_map, joints = loader.run(include_visual, skip_unsupported)
     for note in loader.notes:
         warnings.warn(note, stacklevel=2)
     if not bodies and not grounds:
@@ -109,6 +110,7 @@ def load_mjcf(
         dt=float(model.opt.timestep),
         gravity=np.array(model.opt.gravity, dtype=np.float64),
         grounds=grounds,
+        joints=joints,
         model=model,
         q=np.array(data.qpos),
         source_map=source_map,
@@ -318,7 +320,17 @@ class _MjcfLoader:
                     friction=float(max(m.geom_friction[g, 0] for g in geoms)),
                 )
             )
+        joints = []
         for root, i in source_map.items():
             parent = int(m.body_weldid[int(m.body_parentid[root])])
             bodies[i].parent = source_map.get(parent)
-        return bodies, grounds, source_map
+            adr, num = int(m.body_jntadr[root]), int(m.body_jntnum[root])
+            for j in range(adr, adr + num):
+                kind = self.mj.mjtJoint(int(m.jnt_type[j])).name[len("mjJNT_") :].lower()
+                kind = {"hinge": "revolute", "slide": "prismatic"}.get(kind, kind)
+                axis = np.array(d.xaxis[j]) if kind in ("revolute", "prismatic") else None
+                name = m.joint(j).name or f"joint{j}"
+                joints.append(
+                    JointInfo(name, kind, bodies[i].parent, i, np.array(d.xanchor[j]), axis)
+                )
+        return bodies, grounds, source_map, joints

@@ -28,6 +28,7 @@ import numpy as np
 import trimesh
 
 from abdsim.bridges._bodies import (
+    JointInfo,
     LoadedBody,
     LoaderError,
     LoadResult,
@@ -178,6 +179,7 @@ def load_urdf(
         source=urdf,
         format="urdf",
         bodies=bodies,
+        joints=_joints(model, data, body_of_joint, bodies),
         model=model,
         collision_model=collision_model,
         q=q,
@@ -351,6 +353,29 @@ def _parent_body(model, j: int, body_of_joint: dict[int, int]) -> int | None:
             return body_of_joint[k]
         k = model.parents[k] if k > 0 else None
     return None
+
+
+def _joints(model, data, body_of_joint: dict[int, int], bodies) -> list[JointInfo]:
+    out = []
+    for j, i in body_of_joint.items():
+        if j == 0:
+            continue
+        joint, R = model.joints[j], np.array(data.oMi[j].rotation)
+        kind, axis = "other", None
+        if joint.shortname() == _FREE_FLYER:
+            kind = "free"
+        elif joint.shortname() == "JointModelSpherical":
+            kind = "ball"
+        elif joint.nv == 1:
+            S = np.array(data.joints[j].S).reshape(-1)
+            if np.linalg.norm(S[3:]) > 0:
+                kind, axis = "revolute", R @ S[3:]
+            else:
+                kind, axis = "prismatic", R @ S[:3]
+            axis = axis / np.linalg.norm(axis)
+        anchor = np.array(data.oMi[j].translation)
+        out.append(JointInfo(model.names[j], kind, bodies[i].parent, i, anchor, axis))
+    return out
 
 
 def _joint_mass(model, j, links, link_mass, mass_density):

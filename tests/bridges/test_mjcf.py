@@ -225,3 +225,14 @@ def test_the_bundled_validation_scene_loads(scenes_dir, rel_err):
     for b, i in res.source_map.items():
         rb = abdsim.to_rigid_body(res.bodies[i].geometry)
         assert rel_err(rb.mass, m.body_mass[b]) < 1e-9
+
+
+def test_joint_info_in_world_frame(scene):
+    _, res, m, d = scene
+    by_name = {j.name: j for j in res.joints}
+    hinge = by_name["paddle_hinge"]
+    assert (hinge.type, hinge.parent, hinge.child) == ("revolute", None, res.index("paddle"))
+    np.testing.assert_allclose(hinge.anchor, [-1.0, 0.0, 0.3], atol=1e-15)
+    np.testing.assert_allclose(hinge.axis, [0.0, 1.0, 0.0], atol=1e-15)
+    assert by_name["box_free"].type == "free" and by_name["box_free"].axis is None
+    assert sorted(j.child for j in res.joints) == list(range(1, 9))

@@ -235,3 +235,22 @@ def test_limbs_of_a_floating_base_follow_the_simulated_base(data_dir):
     pin.forwardKinematics(res.model, data, q)
     for k, j in enumerate((2, 3)):
         np.testing.assert_allclose(T[k], shift @ data.oMi[j].homogeneous, atol=1e-13)
+
+
+def test_joint_info_in_world_frame(data_dir):
+    q = np.array([0.4, 0.02])
+    res = load_urdf(data_dir / "arm.urdf", q=q)
+    data = res.model.createData()
+    pin.forwardKinematics(res.model, data, q)
+    shoulder, slide = res.joints
+    assert (shoulder.name, shoulder.type, shoulder.parent, shoulder.child) == (
+        "shoulder",
+        "revolute",
+        0,
+        1,
+    )
+    np.testing.assert_allclose(shoulder.anchor, data.oMi[1].translation, atol=1e-15)
+    np.testing.assert_allclose(shoulder.axis, data.oMi[1].rotation[:, 1], atol=1e-15)  # URDF y
+    assert (slide.type, slide.parent, slide.child) == ("prismatic", 1, 2)
+    np.testing.assert_allclose(slide.axis, data.oMi[2].rotation[:, 0], atol=1e-15)  # URDF x
+    assert load_urdf(data_dir / "arm.urdf", floating_base=True).joints[0].type == "free"
