@@ -38,7 +38,9 @@ class LogReadError(ValueError):
 @dataclass
 class _Scan:
     channels: dict[int, tuple[str, str, str]]  # id -> (topic, schema name, encoding)
-    messages: list[tuple[int, int, bytes]]  # (channel id, log time, data)
+    messages: list[tuple[int, int, bytes]]  # (channel id, log time, data) of kept channels
+    counts: dict[int, int]  # messages per channel id (all channels)
+    time_range: tuple[int | None, int | None]
     metadata: dict[str, dict[str, str]]
     truncated: bool
     error: str | None
@@ -46,7 +48,9 @@ class _Scan:
     compression: set[str]
 
 
-def _scan(path: Path, topics: set[str] | None = None) -> _Scan:
+def _scan(path: Path, first_only: bool = False) -> _Scan:
+    """Stream the file; keep the data of abdsim's JSON channels (only their first message
+    with ``first_only``), count every channel's messages."""
     from mcap.exceptions import InvalidMagic
     from mcap.records import Channel, Chunk, Message, Metadata, Schema
     from mcap.stream_reader import StreamReader, breakup_chunk
@@ -58,8 +62,11 @@ def _scan(path: Path, topics: set[str] | None = None) -> _Scan:
     schemas: dict[int, str] = {}
     channels: dict[int, tuple[str, str, str]] = {}
     messages: list[tuple[int, int, bytes]] = []
+    counts: dict[int, int] = {}
+    times: list[int | None] = [None, None]
     metadata: dict[str, dict[str, str]] = {}
     truncated, error, chunks, compression = False, None, 0, set()
+    kept = (BODY_SCHEMA, DIAGNOSTICS_SCHEMA)
 
     def handle(rec: Any) -> None:
         if isinstance(rec, Schema):
@@ -67,9 +74,12 @@ def _scan(path: Path, topics: set[str] | None = None) -> _Scan:
         elif isinstance(rec, Channel):
             channels[rec.id] = (rec.topic, schemas.get(rec.schema_id, ""), rec.message_encoding)
         elif isinstance(rec, Message):
-            topic = channels.get(rec.channel_id, ("",))[0]
-            if topics is None or topic in topics:
-                messages.append((rec.channel_id, rec.log_time, rec.data))
+            c, t = rec.channel_id, rec.log_time
+            counts[c] = counts.get(c, 0) + 1
+            times[0] = t if times[0] is None else min(times[0], t)
+            times[1] = t if times[1] is None else max(times[1], t)
+            if channels.get(c, ("", ""))[1] in kept and not (first_only and counts[c] > 1):
+                messages.append((c, t, rec.data))
         elif isinstance(rec, Metadata):
             metadata[rec.name] = dict(rec.metadata)
 
@@ -92,7 +102,9 @@ def _scan(path: Path, topics: set[str] | None = None) -> _Scan:
             if chunks == 0 and not channels:
                 raise LogReadError(f"{path}: no complete MCAP record could be read ({e})") from e
             truncated, error = True, f"{type(e).__name__}: {e}"
-    return _Scan(channels, messages, metadata, truncated, error, chunks, compression)
+    return _Scan(
+        channels, messages, counts, tuple(times), metadata, truncated, error, chunks, compression
+    )
 
 
 @dataclass
@@ -257,13 +269,9 @@ def log_info(path: str | os.PathLike) -> dict[str, Any]:
     Works on truncated files too (``truncated`` is then True).
     """
     p = Path(path).expanduser()
-    scan = _scan(p)
-    counts: dict[int, int] = {}
-    t_min = t_max = None
-    for c, t, _ in scan.messages:
-        counts[c] = counts.get(c, 0) + 1
-        t_min = t if t_min is None else min(t_min, t)
-        t_max = t if t_max is None else max(t_max, t)
+    scan = _scan(p, first_only=True)
+    counts = scan.counts
+    t_min, t_max = scan.time_range
     bodies: dict[str, list[str]] = {}
     for ns in _namespaces(scan):
         ids = {c for c, (t, _, _) in scan.channels.items() if t == f"{ns}/bodies"}
@@ -279,7 +287,7 @@ def log_info(path: str | os.PathLike) -> dict[str, Any]:
             {"id": c, "topic": t, "schema": s, "encoding": e, "messages": counts.get(c, 0)}
             for c, (t, s, e) in sorted(scan.channels.items())
         ],
-        "messages": len(scan.messages),
+        "messages": sum(counts.values()),
         "start_ns": t_min,
         "end_ns": t_max,
         "chunks": scan.chunks,
