@@ -2,9 +2,10 @@
 
 * ``abdsim log info FILE [--json]``: channels, schemas, message counts, time range, bodies.
 * ``abdsim log plot FILE --body NAME [--body NAME ...] --field FIELD [-o out.png]``: one
-  body field over time (``position``, ``orientation``, ``linear_velocity``,
-  ``angular_velocity``, ``transform``, ``velocity``), or ``--diagnostic KEY`` (e.g.
-  ``newton_iterations``, ``energies.total``, ``wall_time``).
+  body field over time (``position``, ``orientation`` (quaternion xyzw), ``velocity``
+  (linear, world frame), ``angular_velocity`` (world frame), ``transform`` (the 12 entries of
+  [A p]), ``transform_rate`` (dT/dt)), or ``--diagnostic KEY`` (e.g. ``newton_iterations``,
+  ``energies.total``, ``wall_time``).
 """
 
 from __future__ import annotations
@@ -13,19 +14,23 @@ import argparse
 import json
 from typing import Any
 
-_FIELDS = (
-    "position",
-    "orientation",
-    "linear_velocity",
-    "angular_velocity",
-    "transform",
-    "velocity",
-)
+#: ``--field`` choice -> LogData field (``velocity`` is the linear velocity of the body origin;
+#: ``transform_rate`` the 12 entries of dT/dt).
+_FIELDS = {
+    "position": "position",
+    "orientation": "orientation",
+    "velocity": "linear_velocity",
+    "linear_velocity": "linear_velocity",
+    "angular_velocity": "angular_velocity",
+    "transform": "transform",
+    "transform_rate": "velocity",
+}
 _COMPONENTS = {
     "position": ("x", "y", "z"),
     "orientation": ("qx", "qy", "qz", "qw"),
     "linear_velocity": ("vx", "vy", "vz"),
     "angular_velocity": ("wx", "wy", "wz"),
+    "transform": ("A00", "A01", "A02", "px", "A10", "A11", "A12", "py", "A20", "A21", "A22", "pz"),
 }
 
 
@@ -42,7 +47,12 @@ def add_parser(subparsers: Any) -> Any:
     plot = sub.add_parser("plot", help="plot a body field or a diagnostic over time (PNG)")
     plot.add_argument("file", help="an .mcap log")
     plot.add_argument("--body", action="append", default=[], help="body name (repeatable)")
-    plot.add_argument("--field", choices=_FIELDS, default="position", help="body field")
+    plot.add_argument(
+        "--field",
+        choices=list(_FIELDS),
+        default="position",
+        help="body field (velocity: linear, world frame; transform_rate: dT/dt)",
+    )
     plot.add_argument("--diagnostic", help="plot this diagnostics key instead of a body field")
     plot.add_argument("--namespace", default=None, help="topic namespace, e.g. /abdsim")
     plot.add_argument("-o", "--output", default=None, help="PNG path (default: FILE-BODY.png)")
@@ -100,9 +110,10 @@ def _plot(args: argparse.Namespace) -> int:
         ax.set_ylabel(key)
         title, stem = key, key.replace(".", "_")
     else:
+        field = _FIELDS[args.field]
         for name in args.body:
-            values = data.field(name, args.field)
-            labels = _COMPONENTS.get(args.field) or [f"[{k}]" for k in range(values.shape[1])]
+            values = data.field(name, field)
+            labels = _COMPONENTS.get(field) or [f"[{k}]" for k in range(values.shape[1])]
             for k, label in enumerate(labels):
                 ax.plot(data.times, values[:, k], label=f"{name} {label}")
         ax.set_ylabel(args.field.replace("_", " "))

@@ -43,6 +43,12 @@ def test_log_plot_body_and_diagnostic(log_file, tmp_path, capsys):
     out = tmp_path / "ball.png"
     assert main(["log", "plot", str(log_file), "--body", "ball", "-o", str(out)]) == 0
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 10_000
+    vel = tmp_path / "vel.png"
+    assert (
+        main(["log", "plot", str(log_file), "--body", "box", "--field", "velocity", "-o", str(vel)])
+        == 0
+    )
+    assert vel.is_file()
     assert main(["log", "plot", str(log_file), "--diagnostic", "newton_iterations"]) == 0
     default = log_file.with_name("run-newton_iterations.png")
     assert default.is_file() and str(default) in capsys.readouterr().out
