@@ -7,6 +7,12 @@ Quick tour::
     sc = abdsim.geometry.box((0.2, 0.1, 0.05))
     abdsim.AffineBodyConstitution("OrthoPotential").apply_to(sc, kappa=1e8, mass_density=1e3)
     print(abdsim.to_rigid_body(sc))
+
+    scene = abdsim.Scene(dt=0.01)
+    handle = scene.add(sc)
+    world = abdsim.World(scene)
+    world.step(100)
+    print(world.transforms())
 """
 
 from abdsim import geometry
@@ -22,6 +28,7 @@ from abdsim.constitution import (
     to_rigid_body,
 )
 from abdsim.geometry import SimplicialComplex
+from abdsim.sim import BodyHandle, Scene, SceneSettings, SolverError, StepDiagnostics, World
 
 __version__ = "0.1.0"
 
@@ -29,9 +36,15 @@ __all__ = [
     "AffineBodyConstitution",
     "AffineBodyRod",
     "AffineBodyShell",
+    "BodyHandle",
     "DyadicMass",
     "RigidBody",
+    "Scene",
+    "SceneSettings",
     "SimplicialComplex",
+    "SolverError",
+    "StepDiagnostics",
+    "World",
     "assign_rigid_body",
     "from_rigid_body",
     "geometry",

@@ -104,11 +104,11 @@ def validate(
     logger = setup.make_logger(out_dir / "run.mcap") if mcap else None
     try:
         abd = setup.run(duration, sample_dt, progress=progress, logger=logger)
+        if logger is not None:
+            setup.log_reference(logger, mj, "/mujoco")
     finally:
         if logger is not None:
             logger.close()
-    if logger is not None:
-        setup.append_reference_poses(out_dir / "run.mcap", mj)
 
     checks: list[Check] = []
     abd_inertia = setup.rigid_bodies()

@@ -85,8 +85,14 @@ def run_mujoco(
     every = max(1, int(round(sample_dt / dt)))
     wall = 0.0
 
+    poses = []
+
     def sample() -> None:
         s = body_state(model, data, bodies)
+        T = np.tile(np.eye(4), (len(bodies), 1, 1))
+        T[:, :3, :3] = s["rotation"]
+        T[:, :3, 3] = data.xpos[bodies]
+        poses.append(T)
         dist = min((c.dist for c in data.contact[: data.ncon]), default=np.nan)
         rec.add(
             time=data.time,
@@ -107,4 +113,4 @@ def run_mujoco(
         wall += time.perf_counter() - t0
         if k % every == 0:
             sample()
-    return rec.finish(wall, n_steps, integrator=integrator)
+    return rec.finish(wall, n_steps, integrator=integrator, transforms=np.stack(poses))

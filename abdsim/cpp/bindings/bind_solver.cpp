@@ -1,6 +1,331 @@
-// Solver bindings (Scene data in, World stepping). Filled in by the dynamics work.
+// Solver bindings: SceneData built from numpy arrays, the World stepper, its settings and
+// diagnostics, and the EnergyTerm interface (C++ terms bind as subclasses of
+// _core.EnergyTerm with a std::shared_ptr holder; Python terms subclass
+// _core.PythonEnergyTerm).
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <string>
+#include <tuple>
+#include <vector>
+
 #include "bindings/bindings.h"
+#include "solver/energy_term.h"
+#include "solver/shape_energy_term.h"
+#include "solver/world.h"
+
+namespace py = pybind11;
 
 namespace abd::bindings {
-void bind_solver(pybind11::module_& /*m*/) {}
+namespace {
+
+using MatX12 = Eigen::Matrix<double, Eigen::Dynamic, 12, Eigen::RowMajor>;
+using VecXi = Eigen::VectorXi;
+using HessianBlocks = std::vector<std::tuple<int, int, Mat12>>;
+
+MatX12 as_rows(const VecX& v) {
+  return Eigen::Map<const MatX12>(v.data(), v.size() / 12, 12);
+}
+
+VecX as_stacked(const MatX12& m, Eigen::Index n_bodies, const char* what) {
+  if (m.rows() != n_bodies)
+    throw std::invalid_argument(std::string(what) + " must have shape (" +
+                                std::to_string(n_bodies) + ", 12)");
+  VecX v(12 * m.rows());
+  Eigen::Map<MatX12>(v.data(), m.rows(), 12) = m;
+  return v;
+}
+
+// An energy term written in Python: override name(), value(q), gradient(q) (12n array),
+// hessian(q) (list of (row, col, 12x12) blocks, every coupling with its transpose) and
+// optionally max_step(q, dq), begin_step(dt, q_t, q_dot_t), update(q). Values are
+// unscaled potentials; the solver scales them.
+class PythonEnergyTerm : public EnergyTerm {
+ public:
+  virtual VecX gradient(const VecX& q) const = 0;
+  virtual HessianBlocks hessian(const VecX& q) const = 0;
+  virtual void begin_step_py(double /*dt*/, const VecX& /*q_t*/, const VecX& /*q_dot_t*/) {}
+
+  void begin_step(const StepContext& ctx) override { begin_step_py(ctx.dt, ctx.q_t, ctx.q_dot_t); }
+  void add_gradient(const VecX& q, double scale, VecX& g) const override {
+    const VecX mine = gradient(q);
+    if (mine.size() != g.size())
+      throw std::invalid_argument(name() + ".gradient returned " + std::to_string(mine.size()) +
+                                  " values, expected " + std::to_string(g.size()));
+    g += scale * mine;
+  }
+  void add_hessian(const VecX& q, double scale, std::vector<BodyBlock>& blocks) const override {
+    for (const auto& [row, col, H] : hessian(q)) blocks.push_back({row, col, scale * H});
+  }
+};
+
+class PythonEnergyTermTrampoline : public PythonEnergyTerm {
+ public:
+  std::string name() const override {
+    PYBIND11_OVERRIDE_PURE(std::string, PythonEnergyTerm, name, );
+  }
+  double value(const VecX& q) const override {
+    PYBIND11_OVERRIDE_PURE(double, PythonEnergyTerm, value, q);
+  }
+  VecX gradient(const VecX& q) const override {
+    PYBIND11_OVERRIDE_PURE(VecX, PythonEnergyTerm, gradient, q);
+  }
+  HessianBlocks hessian(const VecX& q) const override {
+    PYBIND11_OVERRIDE_PURE(HessianBlocks, PythonEnergyTerm, hessian, q);
+  }
+  double max_step(const VecX& q, const VecX& dq) const override {
+    PYBIND11_OVERRIDE(double, PythonEnergyTerm, max_step, q, dq);
+  }
+  void update(const VecX& q) override { PYBIND11_OVERRIDE(void, PythonEnergyTerm, update, q); }
+  void begin_step_py(double dt, const VecX& q_t, const VecX& q_dot_t) override {
+    PYBIND11_OVERRIDE_NAME(void, PythonEnergyTerm, "begin_step", begin_step_py, dt, q_t, q_dot_t);
+  }
+};
+
+void bind_scene_data(py::module_& m) {
+  py::class_<GeometryData>(m, "GeometryData", "Rest geometry shared by a geometry's bodies.")
+      .def_readonly("rest_vertices", &GeometryData::rest_vertices)
+      .def_readonly("triangles", &GeometryData::triangles)
+      .def_readonly("edges", &GeometryData::edges)
+      .def_readonly("thickness", &GeometryData::thickness)
+      .def_readonly("self_collision", &GeometryData::self_collision)
+      .def_readonly("dim", &GeometryData::dim);
+
+  py::class_<BodyData>(m, "BodyData", "One affine body (an instance of a geometry).")
+      .def_readonly("geometry", &BodyData::geometry)
+      .def_readonly("q", &BodyData::q)
+      .def_readonly("q_dot", &BodyData::q_dot)
+      .def_readonly("mass", &BodyData::mass)
+      .def_readonly("mass_x_bar", &BodyData::mass_x_bar)
+      .def_readonly("mass_x_bar_x_bar", &BodyData::mass_x_bar_x_bar)
+      .def_readonly("kappa", &BodyData::kappa)
+      .def_readonly("volume", &BodyData::volume)
+      .def_readonly("constitution_uid", &BodyData::constitution_uid)
+      .def_readonly("is_fixed", &BodyData::is_fixed)
+      .def_readonly("is_dynamic", &BodyData::is_dynamic)
+      .def_readonly("external_kinetic", &BodyData::external_kinetic);
+
+  py::class_<SceneData>(m, "SceneData",
+                        "Plain scene data handed to the solver and the contact code.")
+      .def(py::init<>())
+      .def_readwrite("dt", &SceneData::dt)
+      .def_readwrite("gravity", &SceneData::gravity)
+      .def(
+          "add_geometry",
+          [](SceneData& s, const MatX3& vertices, const MatX3i& triangles, const MatX2i& edges,
+             const VecX& thickness, int self_collision, int dim) {
+            if (thickness.size() != vertices.rows())
+              throw std::invalid_argument("thickness must have one value per vertex");
+            GeometryData g;
+            g.rest_vertices = vertices;
+            g.triangles = triangles;
+            g.edges = edges;
+            g.thickness = thickness;
+            g.self_collision = self_collision;
+            g.dim = dim;
+            s.geometries.push_back(std::move(g));
+            return static_cast<int>(s.geometries.size()) - 1;
+          },
+          py::arg("rest_vertices"), py::arg("triangles"), py::arg("edges"), py::arg("thickness"),
+          py::arg("self_collision") = 0, py::arg("dim") = 3,
+          "Adds a rest geometry; returns its index.")
+      .def(
+          "add_bodies",
+          [](SceneData& s, int geometry, const MatX12& q, const MatX12& q_dot, double mass,
+             const Vec3& mass_x_bar, const Mat3& mass_x_bar_x_bar, const VecX& kappa,
+             double volume, int constitution_uid, const VecXi& is_fixed,
+             const VecXi& is_dynamic, const VecXi& external_kinetic) {
+            const Eigen::Index k = q.rows();
+            if (q_dot.rows() != k || kappa.size() != k || is_fixed.size() != k ||
+                is_dynamic.size() != k || external_kinetic.size() != k)
+              throw std::invalid_argument(
+                  "add_bodies: q, q_dot, kappa and the flags need one row per body");
+            const int first = static_cast<int>(s.bodies.size());
+            for (Eigen::Index i = 0; i < k; ++i) {
+              BodyData b;
+              b.geometry = geometry;
+              b.q = q.row(i).transpose();
+              b.q_dot = q_dot.row(i).transpose();
+              b.mass = mass;
+              b.mass_x_bar = mass_x_bar;
+              b.mass_x_bar_x_bar = mass_x_bar_x_bar;
+              b.kappa = kappa[i];
+              b.volume = volume;
+              b.constitution_uid = constitution_uid;
+              b.is_fixed = is_fixed[i] != 0;
+              b.is_dynamic = is_dynamic[i] != 0;
+              b.external_kinetic = external_kinetic[i] != 0;
+              s.bodies.push_back(b);
+            }
+            return first;
+          },
+          py::arg("geometry"), py::arg("q"), py::arg("q_dot"), py::arg("mass"),
+          py::arg("mass_x_bar"), py::arg("mass_x_bar_x_bar"), py::arg("kappa"),
+          py::arg("volume"), py::arg("constitution_uid"), py::arg("is_fixed"),
+          py::arg("is_dynamic"), py::arg("external_kinetic"),
+          "Adds k bodies of one geometry (q, q_dot: (k, 12)); returns the first body index.")
+      .def_property_readonly("num_bodies",
+                             [](const SceneData& s) { return static_cast<int>(s.bodies.size()); })
+      .def_property_readonly(
+          "num_geometries", [](const SceneData& s) { return static_cast<int>(s.geometries.size()); })
+      .def(
+          "geometry", [](const SceneData& s, int i) -> const GeometryData& { return s.geometries.at(i); },
+          py::return_value_policy::reference_internal)
+      .def(
+          "body", [](const SceneData& s, int i) -> const BodyData& { return s.bodies.at(i); },
+          py::return_value_policy::reference_internal);
+}
+
+void bind_terms(py::module_& m) {
+  py::class_<EnergyTerm, std::shared_ptr<EnergyTerm>>(
+      m, "EnergyTerm", "A potential in the incremental potential Π (unscaled).")
+      .def("name", &EnergyTerm::name)
+      .def("value", &EnergyTerm::value, py::arg("q"))
+      .def(
+          "gradient",
+          [](const EnergyTerm& t, const VecX& q) {
+            VecX g = VecX::Zero(q.size());
+            t.add_gradient(q, 1.0, g);
+            return g;
+          },
+          py::arg("q"))
+      .def(
+          "hessian",
+          [](const EnergyTerm& t, const VecX& q) {
+            std::vector<BodyBlock> blocks;
+            t.add_hessian(q, 1.0, blocks);
+            HessianBlocks out;
+            out.reserve(blocks.size());
+            for (const BodyBlock& b : blocks) out.emplace_back(b.row, b.col, b.H);
+            return out;
+          },
+          py::arg("q"), "List of (row_body, col_body, 12x12 block).")
+      .def("max_step", &EnergyTerm::max_step, py::arg("q"), py::arg("dq"));
+
+  py::class_<PythonEnergyTerm, EnergyTerm, PythonEnergyTermTrampoline,
+             std::shared_ptr<PythonEnergyTerm>>(m, "PythonEnergyTerm",
+                                                "Base class for energy terms written in Python.")
+      .def(py::init<>())
+      .def("gradient", &PythonEnergyTerm::gradient, py::arg("q"))
+      .def("hessian", &PythonEnergyTerm::hessian, py::arg("q"))
+      .def("max_step", &PythonEnergyTerm::max_step, py::arg("q"), py::arg("dq"))
+      .def("update", &PythonEnergyTerm::update, py::arg("q"))
+      .def("begin_step", &PythonEnergyTerm::begin_step_py, py::arg("dt"), py::arg("q_t"),
+           py::arg("q_dot_t"));
+
+  py::class_<ShapeEnergyTerm, EnergyTerm, std::shared_ptr<ShapeEnergyTerm>>(
+      m, "ShapeEnergyTerm", "Σ κ v̄ Ψ(A) over the bodies of a SceneData.")
+      .def(py::init<const SceneData&, bool>(), py::arg("scene"), py::arg("project_psd") = true);
+}
+
+void bind_settings(py::module_& m) {
+  py::enum_<Integrator>(m, "Integrator")
+      .value("BDF1", Integrator::kBDF1)
+      .value("BDF2", Integrator::kBDF2);
+  py::enum_<LinearSolverKind>(m, "LinearSolver")
+      .value("AUTO", LinearSolverKind::kAuto)
+      .value("DIRECT", LinearSolverKind::kDirect)
+      .value("PCG", LinearSolverKind::kPCG);
+
+  py::class_<SolverSettings>(m, "SolverSettings", "Settings of the implicit time stepper.")
+      .def(py::init<>())
+      .def_readwrite("integrator", &SolverSettings::integrator)
+      .def_readwrite("tol_translation", &SolverSettings::tol_translation)
+      .def_readwrite("tol_affine", &SolverSettings::tol_affine)
+      .def_readwrite("max_newton_iterations", &SolverSettings::max_newton_iterations)
+      .def_readwrite("armijo_c", &SolverSettings::armijo_c)
+      .def_readwrite("max_line_search_iterations", &SolverSettings::max_line_search_iterations)
+      .def_readwrite("ccd_safety", &SolverSettings::ccd_safety)
+      .def_readwrite("linear_solver", &SolverSettings::linear_solver)
+      .def_readwrite("direct_max_dofs", &SolverSettings::direct_max_dofs)
+      .def_readwrite("pcg_tolerance", &SolverSettings::pcg_tolerance)
+      .def_readwrite("pcg_max_iterations", &SolverSettings::pcg_max_iterations)
+      .def_readwrite("project_psd", &SolverSettings::project_psd)
+      .def_readwrite("num_threads", &SolverSettings::num_threads);
+
+  py::class_<StepDiagnostics>(m, "StepDiagnostics", "What one time step did.")
+      .def_readonly("step", &StepDiagnostics::step)
+      .def_readonly("time", &StepDiagnostics::time)
+      .def_readonly("newton_iterations", &StepDiagnostics::newton_iterations)
+      .def_readonly("total_body_iterations", &StepDiagnostics::total_body_iterations)
+      .def_readonly("converged", &StepDiagnostics::converged)
+      .def_readonly("step_translation", &StepDiagnostics::step_translation)
+      .def_readonly("step_affine", &StepDiagnostics::step_affine)
+      .def_readonly("residual", &StepDiagnostics::residual)
+      .def_readonly("line_search_alphas", &StepDiagnostics::line_search_alphas)
+      .def_readonly("min_term_max_step", &StepDiagnostics::min_term_max_step)
+      .def_readonly("energies", &StepDiagnostics::energies)
+      .def_readonly("linear_solver", &StepDiagnostics::linear_solver)
+      .def_readonly("pcg_iterations", &StepDiagnostics::pcg_iterations)
+      .def_readonly("wall_time", &StepDiagnostics::wall_time);
+}
+
+void bind_world(py::module_& m) {
+  py::class_<World>(m, "World", "The implicit ABD stepper (see abdsim.World for the Python API).")
+      .def(py::init<const SceneData&, const SolverSettings&>(), py::arg("scene"),
+           py::arg("settings") = SolverSettings())
+      .def(
+          "add_term", [](World& w, std::shared_ptr<EnergyTerm> t) { w.add_term(std::move(t)); },
+          py::arg("term"), py::keep_alive<1, 2>())
+      .def_property_readonly("terms", &World::terms)
+      .def(
+          "step",
+          [](World& w, int n) {
+            if (n < 0) throw std::invalid_argument("step count must be >= 0");
+            py::gil_scoped_release release;
+            for (int i = 0; i < n; ++i) w.step();
+          },
+          py::arg("n") = 1, "Advances n steps; raises SolverError (state kept) on failure.")
+      .def_property_readonly("num_bodies", &World::num_bodies)
+      .def_property_readonly("time", &World::time)
+      .def_property_readonly("next_time", &World::next_time)
+      .def("set_time", &World::set_time, py::arg("t"))
+      .def_property_readonly("step_count", &World::step_count)
+      .def_property_readonly("q", [](const World& w) { return as_rows(w.q()); },
+                             "State (n_bodies, 12): [p, a1, a2, a3] per body.")
+      .def_property_readonly("q_dot", [](const World& w) { return as_rows(w.q_dot()); })
+      .def(
+          "set_state",
+          [](World& w, const MatX12& q, const MatX12& q_dot) {
+            w.set_state(as_stacked(q, w.num_bodies(), "q"),
+                        as_stacked(q_dot, w.num_bodies(), "q_dot"));
+          },
+          py::arg("q"), py::arg("q_dot"))
+      .def("set_kinematic_target", &World::set_kinematic_target, py::arg("body"),
+           py::arg("q_target"))
+      .def(
+          "set_kinematic_targets",
+          [](World& w, const VecXi& bodies, const MatX12& q) {
+            if (q.rows() != bodies.size())
+              throw std::invalid_argument("set_kinematic_targets: one (12,) row per body");
+            for (Eigen::Index i = 0; i < bodies.size(); ++i)
+              w.set_kinematic_target(bodies[i], q.row(i).transpose());
+          },
+          py::arg("bodies"), py::arg("q_targets"))
+      .def("release_kinematic", &World::release_kinematic, py::arg("body"))
+      .def("is_kinematic", &World::is_kinematic, py::arg("body"))
+      .def("mass_matrix", &World::mass_matrix, py::arg("body"))
+      .def_property_readonly("diagnostics", &World::diagnostics)
+      .def_property_readonly(
+          "history",
+          [](const World& w) {
+            return std::vector<StepDiagnostics>(w.history().begin(), w.history().end());
+          })
+      .def("set_history_limit", &World::set_history_limit, py::arg("limit"))
+      .def("clear_history", &World::clear_history)
+      .def_property_readonly("scene", &World::scene, py::return_value_policy::reference_internal)
+      .def_property_readonly("settings", &World::settings);
+}
+
+}  // namespace
+
+void bind_solver(py::module_& m) {
+  py::register_exception<SolverError>(m, "SolverError", PyExc_RuntimeError);
+  bind_scene_data(m);
+  bind_terms(m);
+  bind_settings(m);
+  bind_world(m);
+}
+
 }  // namespace abd::bindings

@@ -7,7 +7,18 @@
 //  * value/gradient/hessian are the *potential* (not multiplied by h^2): the solver scales.
 //  * add_gradient / add_hessian ADD `scale *` their contribution.
 //  * Hessian blocks must be PSD as a whole (project per element before mapping J^T H J).
+//  * Blocks are those of the full matrix: a coupling between bodies i != j is given as both
+//    (i, j) and (j, i) = (i, j)^T (the solver checks this); blocks with the same (row, col)
+//    are summed. Blocks touching fixed or kinematic bodies may be returned: the solver keeps
+//    only their part on free bodies.
 //  * Results must be deterministic: no accumulation order that depends on thread timing.
+//
+// Plugging a term in (see solver/world.h): C++ `world.add_term(std::make_unique<T>(...))`;
+// from Python, bind T as py::class_<T, EnergyTerm, std::shared_ptr<T>> and call
+// `world.add_term(term)`. The solver calls begin_step once per step, then per Newton
+// iteration add_gradient/add_hessian, max_step(q, dq) to bound the step (the line search
+// starts at ccd_safety * bound when bound < 1), value() at every line-search trial, and
+// update(q) after every accepted iterate.
 #pragma once
 #include <string>
 #include <vector>
@@ -27,6 +38,8 @@ struct StepContext {
   double dt;
   const VecX& q_t;      // state at the start of the step
   const VecX& q_dot_t;  // velocity at the start of the step
+  // The factor Π applies to the potentials: h² for BDF1, (2h/3)² for BDF2.
+  double potential_scale = 0.0;
 };
 
 class EnergyTerm {

@@ -1,0 +1,140 @@
+#include "contact/broad_phase/broad_phase.h"
+
+#include <algorithm>
+
+#include "contact/broad_phase/bvh_traversal.h"
+
+namespace abd::contact {
+namespace {
+
+template <class T>
+void sort_unique(std::vector<T>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+bool shares_vertex(const std::array<int, 2>& e, const std::array<int, 2>& f) {
+  return e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1];
+}
+
+template <size_t N>
+bool contains(const std::array<int, N>& prim, int v) {
+  return std::find(prim.begin(), prim.end(), v) != prim.end();
+}
+
+}  // namespace
+
+BroadPhase::BroadPhase(const ContactMesh& mesh, BodyFilter bodies_may_collide)
+    : mesh_(mesh), may_collide_(std::move(bodies_may_collide)), body_pairs_(mesh.num_bodies()) {
+  for (int b = 0; b < mesh.num_bodies(); ++b) {
+    const int v0 = mesh.vertex_offset[b];
+    std::vector<std::array<int, 2>> edges;
+    std::vector<std::array<int, 3>> faces;
+    for (int e = mesh.edge_offset[b]; e < mesh.edge_offset[b + 1]; ++e)
+      edges.push_back({mesh.edges[e][0] - v0, mesh.edges[e][1] - v0});
+    for (int f = mesh.face_offset[b]; f < mesh.face_offset[b + 1]; ++f)
+      faces.push_back({mesh.faces[f][0] - v0, mesh.faces[f][1] - v0, mesh.faces[f][2] - v0});
+    bvhs_.push_back(std::make_unique<BodyBvh>(body_slice(mesh.rest, b), edges, faces));
+  }
+}
+
+std::vector<Vec3> BroadPhase::body_slice(const std::vector<Vec3>& x, int b) const {
+  return {x.begin() + mesh_.vertex_offset[b], x.begin() + mesh_.vertex_offset[b + 1]};
+}
+
+Candidates BroadPhase::query(const std::vector<Vec3>& x, const BroadPhaseQuery& q) {
+  for (int b = 0; b < mesh_.num_bodies(); ++b) bvhs_[b]->refit(body_slice(x, b));
+  return collect(q);
+}
+
+Candidates BroadPhase::query_swept(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1,
+                                   const BroadPhaseQuery& q) {
+  for (int b = 0; b < mesh_.num_bodies(); ++b)
+    bvhs_[b]->refit_swept(body_slice(x0, b), body_slice(x1, b));
+  return collect(q);
+}
+
+Candidates BroadPhase::collect(const BroadPhaseQuery& q) {
+  const int n = mesh_.num_bodies();
+  Candidates out;
+  // Each body's box grows by half the margin plus its own thickness, so two boxes overlap
+  // whenever their bodies may be within margin + r_a + r_b.
+  std::vector<coal::AABB> boxes;
+  for (int b = 0; b < n; ++b) {
+    coal::AABB box = bvhs_[b]->bounds();
+    const double grow = 0.5 * q.margin + mesh_.body_thickness[b];
+    box.min_.array() -= grow;
+    box.max_.array() += grow;
+    boxes.push_back(box);
+  }
+  for (const auto& [a, b] : body_pairs_.overlapping(boxes))
+    if (may_collide_(a, b))
+      collect_pair(a, b, q.margin + mesh_.body_thickness[a] + mesh_.body_thickness[b], q, out);
+  for (int b = 0; b < n; ++b) {
+    if (mesh_.self_collision[b] && may_collide_(b, b))
+      collect_self(b, q.margin + 2.0 * mesh_.body_thickness[b], q, out);
+    if (q.ground && may_collide_(b, -1)) {
+      const int v0 = mesh_.vertex_offset[b];
+      for_each_leaf_below(*bvhs_[b]->vertices(),
+                          q.ground_height + q.margin + mesh_.body_thickness[b],
+                          [&](int i) { out.point_ground.push_back(v0 + i); });
+    }
+  }
+  sort_unique(out.point_triangle);
+  sort_unique(out.edge_edge);
+  sort_unique(out.point_ground);
+  sort_unique(out.edge_triangle);
+  return out;
+}
+
+void BroadPhase::collect_pair(int a, int b, double margin, const BroadPhaseQuery& q,
+                              Candidates& out) const {
+  const BodyBvh& A = *bvhs_[a];
+  const BodyBvh& B = *bvhs_[b];
+  const ContactMesh& m = mesh_;
+  auto point_triangle = [&](const BodyBvh& P, int p_body, const BodyBvh& T, int t_body) {
+    if (!T.faces()) return;
+    for_each_close_leaf_pair(*P.vertices(), *T.faces(), margin, [&](int v, int f) {
+      out.point_triangle.push_back({m.vertex_offset[p_body] + v, m.face_offset[t_body] + f});
+    });
+  };
+  point_triangle(A, a, B, b);
+  point_triangle(B, b, A, a);
+  if (A.edges() && B.edges())
+    for_each_close_leaf_pair(*A.edges(), *B.edges(), margin, [&](int i, int j) {
+      out.edge_edge.push_back({m.edge_offset[a] + i, m.edge_offset[b] + j});
+    });
+  if (!q.edge_triangle) return;
+  auto edge_triangle = [&](const BodyBvh& E, int e_body, const BodyBvh& T, int t_body) {
+    if (!E.edges() || !T.faces()) return;
+    for_each_close_leaf_pair(*E.edges(), *T.faces(), q.margin, [&](int e, int f) {
+      out.edge_triangle.push_back({m.edge_offset[e_body] + e, m.face_offset[t_body] + f});
+    });
+  };
+  edge_triangle(A, a, B, b);
+  edge_triangle(B, b, A, a);
+}
+
+void BroadPhase::collect_self(int a, double margin, const BroadPhaseQuery& q,
+                              Candidates& out) const {
+  const BodyBvh& A = *bvhs_[a];
+  const ContactMesh& m = mesh_;
+  if (A.faces())
+    for_each_close_leaf_pair(*A.vertices(), *A.faces(), margin, [&](int v, int f) {
+      const int gv = m.vertex_offset[a] + v, gf = m.face_offset[a] + f;
+      if (!contains(m.faces[gf], gv)) out.point_triangle.push_back({gv, gf});
+    });
+  if (A.edges())
+    for_each_close_leaf_pair(*A.edges(), *A.edges(), margin, [&](int i, int j) {
+      const int ei = m.edge_offset[a] + i, ej = m.edge_offset[a] + j;
+      if (ei < ej && !shares_vertex(m.edges[ei], m.edges[ej])) out.edge_edge.push_back({ei, ej});
+    });
+  if (q.edge_triangle && A.edges() && A.faces())
+    for_each_close_leaf_pair(*A.edges(), *A.faces(), q.margin, [&](int i, int f) {
+      const int e = m.edge_offset[a] + i, gf = m.face_offset[a] + f;
+      if (!contains(m.faces[gf], m.edges[e][0]) && !contains(m.faces[gf], m.edges[e][1]))
+        out.edge_triangle.push_back({e, gf});
+    });
+}
+
+}  // namespace abd::contact

@@ -1,0 +1,62 @@
+// Candidate primitive pairs for the contact term. Two levels:
+//  1. bodies: coal's dynamic AABB tree over per-body world boxes (body_pairs.h), each box
+//     grown by half the query margin plus the body's thickness, keeps the body pairs that may
+//     be close; the `bodies_may_collide` filter (contact table, fixed–fixed) drops the rest;
+//  2. primitives: per-body coal BVHs refit to world space (body_bvh.h) are traversed against
+//     each other (bvh_traversal.h): vertices × triangles both ways and edges × edges.
+// A body is paired with itself only when its geometry has self_collision = 1 (then pairs
+// sharing a vertex are skipped). The ground is a height test on the vertex trees.
+//
+// The result is a superset of the pairs within the margin (box tests are conservative); the
+// contact term computes exact distances. Output is sorted, so it is deterministic.
+#pragma once
+#include <array>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "contact/broad_phase/body_bvh.h"
+#include "contact/broad_phase/body_pairs.h"
+#include "contact/contact_mesh.h"
+
+namespace abd::contact {
+
+struct Candidates {
+  std::vector<std::array<int, 2>> point_triangle;  // (global vertex, global face)
+  std::vector<std::array<int, 2>> edge_edge;       // (global edge, global edge), first < second
+  std::vector<int> point_ground;                   // global vertex
+  std::vector<std::array<int, 2>> edge_triangle;   // (global edge, global face): intersections
+};
+
+struct BroadPhaseQuery {
+  double margin = 0.0;         // find pairs closer than margin + both thickness radii
+  bool ground = false;         // also vertices near the ground half-space z >= ground_height
+  double ground_height = 0.0;
+  bool edge_triangle = false;  // also edge–triangle pairs (initial intersection check)
+};
+
+class BroadPhase {
+ public:
+  using BodyFilter = std::function<bool(int body_a, int body_b)>;  // body_b = -1: the ground
+
+  BroadPhase(const ContactMesh& mesh, BodyFilter bodies_may_collide);
+
+  // Primitives close at positions x.
+  Candidates query(const std::vector<Vec3>& x, const BroadPhaseQuery& q);
+  // Primitives that may come close while the vertices move linearly from x0 to x1.
+  Candidates query_swept(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1,
+                         const BroadPhaseQuery& q);
+
+ private:
+  Candidates collect(const BroadPhaseQuery& q);
+  void collect_pair(int a, int b, double margin, const BroadPhaseQuery& q, Candidates& out) const;
+  void collect_self(int a, double margin, const BroadPhaseQuery& q, Candidates& out) const;
+  std::vector<Vec3> body_slice(const std::vector<Vec3>& x, int b) const;
+
+  const ContactMesh& mesh_;
+  BodyFilter may_collide_;
+  std::vector<std::unique_ptr<BodyBvh>> bvhs_;
+  BodyPairFinder body_pairs_;
+};
+
+}  // namespace abd::contact

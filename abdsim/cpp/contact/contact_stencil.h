@@ -1,0 +1,47 @@
+// A contact stencil: the vertices of one primitive pair (point–triangle, edge–edge, or a
+// vertex against the ground), with what the pair needs besides positions: its thickness
+// offset ξ, its edge–edge mollifier threshold and its friction coefficient. Stencils are built
+// from broad-phase candidates and evaluated on world positions of all vertices.
+#pragma once
+#include <array>
+#include <vector>
+
+#include "contact/contact_mesh.h"
+#include "contact/stencil_types.h"
+
+namespace abd::contact {
+
+enum class StencilKind : int { PointTriangle = 0, EdgeEdge = 1, PointGround = 2 };
+
+struct ContactStencil {
+  StencilKind kind = StencilKind::PointTriangle;
+  int nv = 4;
+  std::array<int, 4> vertices{};    // global ids: [p, t0, t1, t2] | [ea0, ea1, eb0, eb1] | [v]
+  std::array<int, 2> primitives{};  // (vertex, face) | (edge, edge) | (vertex, -1)
+  std::array<int, 2> bodies{};      // body of each side; -1 is the ground
+  double xi = 0.0;                  // sum of both primitives' thickness radii
+  double eps_x = 0.0;               // edge–edge mollifier threshold (0: not edge–edge)
+  double mu = 0.0;                  // friction coefficient of the pair
+};
+
+ContactStencil point_triangle_stencil(const ContactMesh& mesh, int vertex, int face, double mu);
+ContactStencil edge_edge_stencil(const ContactMesh& mesh, int edge_a, int edge_b, double mu);
+ContactStencil point_ground_stencil(const ContactMesh& mesh, int vertex, double mu);
+
+// The squared distance of a stencil and what friction needs from its closest points.
+struct StencilGeometry {
+  double d2 = 0.0;
+  bool infeasible = false;  // inside the thickness, or (ground) at or below the plane
+  StencilVec grad;          // ∂d²/∂x over the stencil's 3·nv coordinates (order >= 1)
+  StencilMat hess;          // ∂²d²/∂x² (order >= 2)
+  StencilWeights w;         // closest-point weights: r = Σ w_i x_i joins the closest points
+  Mat3x2 basis;             // tangent basis of the contact (want_basis)
+};
+
+StencilGeometry stencil_geometry(const ContactStencil& s, const std::vector<Vec3>& x,
+                                 double ground_height, int order, bool want_basis = false);
+
+// Stencil coordinates [x_{v0}; x_{v1}; ...] (3·nv values).
+StencilVec gather_positions(const ContactStencil& s, const std::vector<Vec3>& x);
+
+}  // namespace abd::contact

@@ -1,0 +1,49 @@
+#include "contact/contact_table.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace abd::contact {
+
+ContactRuleFn contact_rule_from_matrices(const Eigen::MatrixXi& enabled, const Eigen::MatrixXd& mu,
+                                         double default_mu) {
+  if (enabled.rows() != enabled.cols() || mu.rows() != enabled.rows() || mu.cols() != enabled.cols())
+    throw std::invalid_argument("contact table: enabled and mu must be square and of equal size");
+  return [enabled, mu, default_mu](int a, int b) {
+    if (a >= enabled.rows() || b >= enabled.rows()) return ContactRule{true, default_mu};
+    return ContactRule{enabled(a, b) != 0, mu(a, b)};
+  };
+}
+
+ContactTable::ContactTable(int n_bodies, const std::vector<int>& body_element, int ground_element,
+                           double default_mu, const ContactRuleFn& rule_fn) {
+  if (!body_element.empty() && int(body_element.size()) != n_bodies)
+    throw std::invalid_argument("contact elements: " + std::to_string(body_element.size()) +
+                                " ids for " + std::to_string(n_bodies) + " bodies");
+  std::vector<int> ids(body_element);
+  if (ids.empty()) ids.assign(n_bodies, 0);
+  ids.push_back(ground_element);
+  for (int id : ids)
+    if (id < 0) throw std::invalid_argument("contact element ids must be >= 0");
+  // Dense indices over the distinct ids keep the table small whatever the ids are.
+  std::vector<int> distinct(ids);
+  std::sort(distinct.begin(), distinct.end());
+  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  auto index_of = [&](int id) {
+    return int(std::lower_bound(distinct.begin(), distinct.end(), id) - distinct.begin());
+  };
+  n_ = int(distinct.size());
+  rules_.assign(size_t(n_) * n_, ContactRule{true, default_mu});
+  if (rule_fn)
+    for (int i = 0; i < n_; ++i)
+      for (int j = i; j < n_; ++j) {
+        const ContactRule r = rule_fn(distinct[i], distinct[j]);
+        if (!(r.mu >= 0.0)) throw std::invalid_argument("contact table: friction mu must be >= 0");
+        rules_[i * n_ + j] = rules_[j * n_ + i] = r;
+      }
+  for (int b = 0; b < n_bodies; ++b) body_index_.push_back(index_of(ids[b]));
+  ground_index_ = index_of(ground_element);
+}
+
+}  // namespace abd::contact

@@ -1,0 +1,44 @@
+// Which contact elements collide, and with what friction coefficient. Each body carries a
+// contact element id (the ground has its own); a user rule over pairs of element ids says
+// {enabled, μ}. The rule is called once per pair of distinct ids at construction (never
+// during a step), with the smaller id first, so the table is symmetric by construction.
+#pragma once
+#include <functional>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace abd::contact {
+
+struct ContactRule {
+  bool enabled = true;
+  double mu = 0.5;
+};
+
+using ContactRuleFn = std::function<ContactRule(int element_a, int element_b)>;
+
+// A rule from two square matrices over element ids: enabled(a, b) != 0 and mu(a, b); ids
+// outside the matrices collide with default_mu.
+ContactRuleFn contact_rule_from_matrices(const Eigen::MatrixXi& enabled, const Eigen::MatrixXd& mu,
+                                         double default_mu);
+
+class ContactTable {
+ public:
+  ContactTable() = default;
+  // body_element: one id per body (empty: all 0). An empty rule: every pair collides with
+  // default_mu.
+  ContactTable(int n_bodies, const std::vector<int>& body_element, int ground_element,
+               double default_mu, const ContactRuleFn& rule);
+
+  const ContactRule& bodies(int a, int b) const { return rule(body_index_[a], body_index_[b]); }
+  const ContactRule& ground(int b) const { return rule(body_index_[b], ground_index_); }
+
+ private:
+  const ContactRule& rule(int i, int j) const { return rules_[i * n_ + j]; }
+  int n_ = 0;                     // distinct element ids in use
+  std::vector<ContactRule> rules_;  // n_ × n_, over dense indices of the ids
+  std::vector<int> body_index_;
+  int ground_index_ = 0;
+};
+
+}  // namespace abd::contact

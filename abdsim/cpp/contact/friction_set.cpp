@@ -1,0 +1,36 @@
+#include "contact/friction_set.h"
+
+#include <cmath>
+
+#include "contact/friction/friction_potential.h"
+
+namespace abd::contact {
+
+std::vector<FrictionStencil> lag_friction(const ActiveSet& set, const BarrierParams& p) {
+  std::vector<FrictionStencil> out;
+  for (const ContactStencil& s : set.stencils) {
+    if (!(s.mu > 0.0)) continue;
+    const StencilGeometry g = stencil_geometry(s, set.x, p.ground_height, 0, true);
+    const double lambda = stencil_normal_force(s, g, set.x, p);
+    if (!(lambda > 0.0) || !std::isfinite(lambda)) continue;
+    FrictionStencil f;
+    f.nv = s.nv;
+    f.vertices = s.vertices;
+    f.w = g.w;
+    f.basis = g.basis;
+    f.mu_lambda = s.mu * lambda;
+    f.x_t = gather_positions(s, set.x);
+    out.push_back(f);
+  }
+  return out;
+}
+
+StencilEnergy friction_energy(const FrictionStencil& f, const std::vector<Vec3>& x, double eps,
+                              int order) {
+  StencilVec dx(3 * f.nv);
+  for (int i = 0; i < f.nv; ++i) dx.segment<3>(3 * i) = x[f.vertices[i]] - f.x_t.segment<3>(3 * i);
+  const FrictionDerivatives d = friction_potential(dx, f.w, f.basis, f.mu_lambda, eps, order);
+  return {d.value, d.grad, d.hess};
+}
+
+}  // namespace abd::contact

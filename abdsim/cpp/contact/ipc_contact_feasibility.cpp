@@ -1,0 +1,117 @@
+// IpcContactTerm: what keeps configurations feasible — the CCD step bound, minimum distances,
+// and the initial-configuration check.
+#include <algorithm>
+#include <sstream>
+#include <stdexcept>
+
+#include "contact/ccd/additive_ccd.h"
+#include "contact/ground/ground_plane.h"
+#include "contact/intersection/segment_triangle.h"
+#include "contact/ipc_contact_term.h"
+#include "contact/parallel.h"
+
+namespace abd {
+using namespace contact;
+
+namespace {
+
+// Time of impact of one candidate pair moving linearly from x0 to x1.
+double candidate_toi(const ContactStencil& s, const std::vector<Vec3>& x0,
+                     const std::vector<Vec3>& x1, double ground_height, CcdOptions o) {
+  o.min_distance = s.xi;
+  const auto& v = s.vertices;
+  switch (s.kind) {
+    case StencilKind::PointTriangle:
+      return point_triangle_ccd(x0[v[0]], x0[v[1]], x0[v[2]], x0[v[3]], x1[v[0]], x1[v[1]],
+                                x1[v[2]], x1[v[3]], o);
+    case StencilKind::EdgeEdge:
+      return edge_edge_ccd(x0[v[0]], x0[v[1]], x0[v[2]], x0[v[3]], x1[v[0]], x1[v[1]], x1[v[2]],
+                           x1[v[3]], o);
+    default: return point_ground_ccd(x0[v[0]], x1[v[0]], ground_height, o);
+  }
+}
+
+std::string describe(const ContactStencil& s) {
+  std::ostringstream os;
+  switch (s.kind) {
+    case StencilKind::PointTriangle:
+      os << "vertex " << s.primitives[0] << " and triangle " << s.primitives[1];
+      break;
+    case StencilKind::EdgeEdge:
+      os << "edge " << s.primitives[0] << " and edge " << s.primitives[1];
+      break;
+    default: os << "vertex " << s.primitives[0];
+  }
+  return os.str();
+}
+
+}  // namespace
+
+double IpcContactTerm::max_step(const VecX& q, const VecX& dq) const {
+  if (dq.size() != q.size()) throw std::invalid_argument("max_step: dq must have the size of q");
+  const std::vector<Vec3> x0 = mesh_.world_vertices(q);
+  const std::vector<Vec3> x1 = mesh_.world_vertices(q + dq);
+  BroadPhaseQuery query;  // margin 0: only the thickness must stay clear
+  query.ground = settings_.ground;
+  query.ground_height = settings_.ground_height;
+  const Candidates c = broad_phase_.query_swept(x0, x1, query);
+
+  std::vector<ContactStencil> stencils;
+  for (const auto& [v, f] : c.point_triangle) stencils.push_back(point_triangle_stencil(mesh_, v, f, 0.0));
+  for (const auto& [a, b] : c.edge_edge) stencils.push_back(edge_edge_stencil(mesh_, a, b, 0.0));
+  for (int v : c.point_ground) stencils.push_back(point_ground_stencil(mesh_, v, 0.0));
+
+  CcdOptions options;
+  options.target = settings_.ccd_target;
+  const int n = int(stencils.size());
+  std::vector<double> toi(size_t(n), 1.0);
+  ABD_PARALLEL_FOR_IF(n >= kMinParallelCcd)
+  for (int i = 0; i < n; ++i)
+    toi[size_t(i)] = candidate_toi(stencils[i], x0, x1, settings_.ground_height, options);
+  double alpha = 1.0;
+  for (double t : toi) alpha = std::min(alpha, t);
+  return alpha;
+}
+
+double IpcContactTerm::min_distance(const VecX& q, double max_distance) const {
+  const double reach = max_distance > 0.0 ? max_distance : settings_.d_hat;
+  if (reach == settings_.d_hat && active_.q.size() == q.size() && active_.q == q)
+    return active_.min_gap;
+  return build_active_set(q, reach).min_gap;
+}
+
+void IpcContactTerm::check_initial(const VecX& q) const {
+  std::vector<Vec3> x = mesh_.world_vertices(q);
+  BroadPhaseQuery query;  // margin 0: touching, within thickness, or crossing
+  query.ground = settings_.ground;
+  query.ground_height = settings_.ground_height;
+  query.edge_triangle = true;
+  const Candidates c = broad_phase_.query(x, query);
+
+  for (const auto& [e, f] : c.edge_triangle) {
+    const auto& ev = mesh_.edges[e];
+    const auto& fv = mesh_.faces[f];
+    if (segment_triangle_intersect(x[ev[0]], x[ev[1]], x[fv[0]], x[fv[1]], x[fv[2]])) {
+      std::ostringstream os;
+      os << "contact: bodies " << mesh_.edge_body[e] << " and " << mesh_.face_body[f]
+         << " intersect (edge " << e << " crosses triangle " << f << ")";
+      throw std::invalid_argument(os.str());
+    }
+  }
+  const ActiveSet set = select_active(mesh_, table_, c, q, std::move(x), 0.0, settings_.ground_height);
+  if (set.infeasible < 0) return;
+  const ContactStencil& s = set.stencils[size_t(set.infeasible)];
+  std::ostringstream os;
+  if (s.kind == StencilKind::PointGround) {
+    os << "contact: body " << s.bodies[0] << " reaches into the ground (" << describe(s)
+       << " at z = " << set.x[s.vertices[0]].z() << ", ground at " << settings_.ground_height
+       << ", thickness " << s.xi << ")";
+  } else {
+    os << "contact: bodies " << s.bodies[0] << " and " << s.bodies[1]
+       << " are in contact or closer than their contact thickness " << s.xi << " ("
+       << describe(s) << ")";
+  }
+  throw std::invalid_argument(os.str());
+}
+
+}  // namespace abd

@@ -1,0 +1,243 @@
+// IpcContactTerm: construction, active sets, barrier + friction energy and derivatives.
+// CCD, distances and feasibility checks are in ipc_contact_feasibility.cpp.
+#include "contact/ipc_contact_term.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "contact/body_mapping.h"
+#include "contact/parallel.h"
+
+namespace abd {
+using namespace contact;
+
+namespace {
+
+const ContactSettings& validated(const ContactSettings& s) {
+  if (!(s.d_hat > 0.0)) throw std::invalid_argument("ContactSettings: d_hat must be > 0");
+  if (!(s.eps_v > 0.0)) throw std::invalid_argument("ContactSettings: eps_v must be > 0");
+  if (!(s.mu >= 0.0)) throw std::invalid_argument("ContactSettings: mu must be >= 0");
+  if (!(s.ccd_target > 0.0 && s.ccd_target < 1.0))
+    throw std::invalid_argument("ContactSettings: ccd_target must lie in (0, 1)");
+  return s;
+}
+
+VecX stacked_q(const SceneData& scene) {
+  VecX q(12 * scene.bodies.size());
+  for (size_t b = 0; b < scene.bodies.size(); ++b) q.segment<12>(12 * b) = scene.bodies[b].q;
+  return q;
+}
+
+// Evaluates eval(i) for i in [0, n) in chunks (in parallel when `parallel` and the chunk is
+// big enough), then hands each result to consume(i, r) serially and in order: bounded memory,
+// deterministic sums.
+template <class Eval, class Consume>
+void evaluate_in_order(int n, bool parallel, const Eval& eval, const Consume& consume) {
+  constexpr int kChunk = 4096;
+  std::vector<StencilEnergy> results;
+  for (int begin = 0; begin < n; begin += kChunk) {
+    const int end = std::min(n, begin + kChunk);
+    results.resize(size_t(end - begin));
+    ABD_PARALLEL_FOR_IF(parallel && end - begin >= kMinParallelHessians)
+    for (int i = begin; i < end; ++i) results[size_t(i - begin)] = eval(i);
+    for (int i = begin; i < end; ++i) consume(i, results[size_t(i - begin)]);
+  }
+}
+
+}  // namespace
+
+IpcContactTerm::IpcContactTerm(const SceneData& scene, const ContactSettings& settings)
+    : settings_(validated(settings)),
+      mesh_(ContactMesh::from_scene(scene)),
+      table_(mesh_.num_bodies(), settings.body_contact_element, settings.ground_contact_element,
+             settings.mu, settings.contact_table),
+      broad_phase_(mesh_, [this](int a, int b) { return bodies_may_collide(a, b); }),
+      dt_(scene.dt) {
+  if (!(dt_ > 0.0)) throw std::invalid_argument("IpcContactTerm: scene dt must be > 0");
+  settings_.contact_table = nullptr;  // resolved into table_; keep no reference to the rule
+  const std::vector<Vec3> x = mesh_.world_vertices(stacked_q(scene));
+  if (!x.empty()) {
+    Vec3 lo = x[0], hi = x[0];
+    for (const Vec3& p : x) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    bbox_diagonal_ = (hi - lo).norm();
+  }
+  if (!(bbox_diagonal_ > 0.0)) bbox_diagonal_ = 1.0;
+  double mass_sum = 0.0;
+  int n_dynamic = 0;
+  for (int b = 0; b < mesh_.num_bodies(); ++b)
+    if (!mesh_.fixed[b] && mesh_.mass[b] > 0.0) {
+      mass_sum += mesh_.mass[b];
+      ++n_dynamic;
+    }
+  average_mass_ = n_dynamic ? mass_sum / n_dynamic : 1.0;
+  if (adaptive_kappa()) {
+    kappa_min_ = min_barrier_stiffness(bbox_diagonal_, settings_.d_hat, average_mass_, dt_);
+    kappa_max_ = 100.0 * kappa_min_;
+    kappa_ = kappa_min_;
+  } else {
+    kappa_ = kappa_min_ = kappa_max_ = settings_.kappa;
+  }
+  friction_eps_ = settings_.eps_v * dt_;
+  prev_min_gap_ = std::numeric_limits<double>::infinity();
+}
+
+bool IpcContactTerm::bodies_may_collide(int a, int b) const {
+  if (b < 0) return settings_.ground && !mesh_.fixed[a] && table_.ground(a).enabled;
+  if (mesh_.fixed[a] && mesh_.fixed[b]) return false;  // neither can move: nothing to resolve
+  return table_.bodies(a, b).enabled;
+}
+
+BarrierParams IpcContactTerm::barrier_params(double kappa) const {
+  BarrierParams p;
+  p.d_hat = settings_.d_hat;
+  p.kappa = kappa;
+  p.ground_height = settings_.ground_height;
+  p.project_psd = settings_.project_hessian;
+  return p;
+}
+
+ActiveSet IpcContactTerm::build_active_set(const VecX& q, double reach) const {
+  std::vector<Vec3> x = mesh_.world_vertices(q);
+  BroadPhaseQuery query;
+  query.margin = reach;
+  query.ground = settings_.ground;
+  query.ground_height = settings_.ground_height;
+  const Candidates candidates = broad_phase_.query(x, query);
+  return select_active(mesh_, table_, candidates, q, std::move(x), reach, settings_.ground_height);
+}
+
+const ActiveSet& IpcContactTerm::active_set_at(const VecX& q, ActiveSet& scratch) const {
+  if (active_.q.size() == q.size() && active_.q == q) return active_;
+  scratch = build_active_set(q, settings_.d_hat);
+  return scratch;
+}
+
+void IpcContactTerm::set_kappa(double kappa) {
+  if (!(kappa > 0.0)) throw std::invalid_argument("set_kappa: kappa must be > 0");
+  kappa_ = kappa;
+}
+
+void IpcContactTerm::begin_step(const StepContext& ctx) {
+  if (!(ctx.dt > 0.0)) throw std::invalid_argument("begin_step: dt must be > 0");
+  dt_ = ctx.dt;
+  friction_eps_ = settings_.eps_v * dt_;
+  active_ = build_active_set(ctx.q_t, settings_.d_hat);
+  friction_ = lag_friction(active_, barrier_params(kappa_));
+}
+
+void IpcContactTerm::update(const VecX& q) {
+  active_ = build_active_set(q, settings_.d_hat);
+  if (adaptive_kappa()) {
+    // IPC: if the closest gap is tiny and still shrinking, the barrier is too soft.
+    kappa_ = update_barrier_stiffness(prev_min_gap_, active_.min_gap, kappa_max_, kappa_,
+                                      bbox_diagonal_);
+    prev_min_gap_ = active_.min_gap;
+  }
+}
+
+double IpcContactTerm::initialize_kappa(const VecX& q, const VecX& grad_rest) {
+  if (!adaptive_kappa()) return kappa_;
+  if (grad_rest.size() != q.size())
+    throw std::invalid_argument("initialize_kappa: grad_rest must have the size of q");
+  ActiveSet scratch;
+  const ActiveSet& set = active_set_at(q, scratch);
+  VecX grad_barrier = VecX::Zero(q.size());
+  add_barrier_gradient(set, 1.0, 1.0, grad_barrier);
+  VecX rest = grad_rest;
+  for (int b = 0; b < mesh_.num_bodies(); ++b)
+    if (mesh_.fixed[b]) {  // fixed dofs balance nothing
+      grad_barrier.segment<12>(12 * b).setZero();
+      rest.segment<12>(12 * b).setZero();
+    }
+  const BarrierStiffness s = initial_barrier_stiffness(bbox_diagonal_, settings_.d_hat,
+                                                       average_mass_, dt_, rest, grad_barrier);
+  kappa_ = s.kappa;
+  kappa_min_ = s.kappa_min;
+  kappa_max_ = s.kappa_max;
+  return kappa_;
+}
+
+double IpcContactTerm::barrier_value(const VecX& q) const {
+  ActiveSet scratch;
+  const ActiveSet& set = active_set_at(q, scratch);
+  if (set.infeasible >= 0) return std::numeric_limits<double>::infinity();
+  const BarrierParams p = barrier_params(kappa_);
+  double sum = 0.0;
+  for (const ContactStencil& s : set.stencils) sum += stencil_barrier(s, set.x, p, 0).value;
+  return sum;
+}
+
+double IpcContactTerm::friction_value(const VecX& q) const {
+  if (friction_.empty()) return 0.0;
+  const std::vector<Vec3> x = mesh_.world_vertices(q);
+  double sum = 0.0;
+  for (const FrictionStencil& f : friction_) sum += friction_energy(f, x, friction_eps_, 0).value;
+  return sum;
+}
+
+double IpcContactTerm::value(const VecX& q) const { return barrier_value(q) + friction_value(q); }
+
+void IpcContactTerm::add_barrier_gradient(const ActiveSet& set, double kappa, double scale,
+                                          VecX& gradient) const {
+  const BarrierParams p = barrier_params(kappa);
+  evaluate_in_order(
+      int(set.stencils.size()), false,
+      [&](int i) { return stencil_barrier(set.stencils[i], set.x, p, 1); },
+      [&](int i, const StencilEnergy& e) {
+        const ContactStencil& s = set.stencils[i];
+        add_stencil_gradient(mesh_, s.vertices, s.nv, e.grad, scale, gradient);
+      });
+}
+
+void IpcContactTerm::add_gradient(const VecX& q, double scale, VecX& gradient) const {
+  if (gradient.size() != q.size())
+    throw std::invalid_argument("add_gradient: gradient must have the size of q");
+  ActiveSet scratch;
+  const ActiveSet& set = active_set_at(q, scratch);
+  add_barrier_gradient(set, kappa_, scale, gradient);
+  evaluate_in_order(
+      int(friction_.size()), false,
+      [&](int i) { return friction_energy(friction_[i], set.x, friction_eps_, 1); },
+      [&](int i, const StencilEnergy& e) {
+        add_stencil_gradient(mesh_, friction_[i].vertices, friction_[i].nv, e.grad, scale, gradient);
+      });
+}
+
+void IpcContactTerm::add_hessian(const VecX& q, double scale, std::vector<BodyBlock>& blocks) const {
+  ActiveSet scratch;
+  const ActiveSet& set = active_set_at(q, scratch);
+  const BarrierParams p = barrier_params(kappa_);
+  BodyBlockAccumulator acc;
+  evaluate_in_order(
+      int(set.stencils.size()), true,
+      [&](int i) { return stencil_barrier(set.stencils[i], set.x, p, 2); },
+      [&](int i, const StencilEnergy& e) {
+        const ContactStencil& s = set.stencils[i];
+        acc.add_stencil(mesh_, s.vertices, s.nv, e.hess, scale);
+      });
+  evaluate_in_order(
+      int(friction_.size()), false,
+      [&](int i) { return friction_energy(friction_[i], set.x, friction_eps_, 2); },
+      [&](int i, const StencilEnergy& e) {
+        acc.add_stencil(mesh_, friction_[i].vertices, friction_[i].nv, e.hess, scale);
+      });
+  acc.flush_into(blocks);
+}
+
+ContactCounts IpcContactTerm::counts() const {
+  ContactCounts c;
+  for (const ContactStencil& s : active_.stencils) {
+    if (s.kind == StencilKind::PointTriangle) ++c.point_triangle;
+    if (s.kind == StencilKind::EdgeEdge) ++c.edge_edge;
+    if (s.kind == StencilKind::PointGround) ++c.point_ground;
+  }
+  c.friction = int(friction_.size());
+  return c;
+}
+
+}  // namespace abd

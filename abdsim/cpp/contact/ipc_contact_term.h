@@ -1,0 +1,120 @@
+// IPC contact (barrier + lagged friction) between affine bodies and with an analytic ground,
+// as one EnergyTerm (solver/energy_term.h). Value, gradient and Hessian are the potential
+//     Σ_active κ m_k b(d_k²; d̂, ξ_k)  +  Σ_lagged μ_k λ_k f0(|u_k|; ε_v h)
+// (the solver scales by h²). Vertex-space Hessians are PSD-projected per stencil (unless
+// ContactSettings::project_hessian is false) and mapped to 12×12 body blocks J_iᵀ H J_j. Fixed bodies take part (they only do not move); pairs of two
+// fixed bodies are ignored, they can neither move apart nor be helped.
+//
+// Call order the solver should follow each step:
+//   begin_step(ctx)            lag friction at q_t (normal forces, bases, closest points)
+//   [initialize_kappa(q, g)]   adaptive κ only: balance against the rest of ∇Π (IPC)
+//   repeat: update(q) → gradient/Hessian at q → max_step(q, dq) → line search on value(q')
+// value/add_gradient/add_hessian are exact at any q: at the q of the last update() they reuse
+// its active set, elsewhere they build one on the fly. With adaptive κ, update() may double κ
+// (IPC: the closest gap is below 1e-9 × bbox diagonal and shrinking), so re-evaluate the
+// energy at the accepted iterate after update(). max_step returns 0 when some pair already
+// starts within its thickness (an invalid state; check_initial says which).
+//
+// Not thread-safe for concurrent calls on one object: the broad phase's BVHs are a cache that
+// const methods refit.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "contact/active_set.h"
+#include "contact/barrier/adaptive_stiffness.h"
+#include "contact/broad_phase/broad_phase.h"
+#include "contact/contact_mesh.h"
+#include "contact/contact_table.h"
+#include "contact/friction_set.h"
+#include "solver/energy_term.h"
+#include "solver/scene_data.h"
+
+namespace abd {
+
+using contact::ContactRule;
+using contact::ContactRuleFn;
+
+struct ContactSettings {
+  double d_hat = 1e-3;   // barrier activation distance (m), beyond the thickness
+  double kappa = 0.0;    // contact stiffness κ_c; <= 0: adaptive (IPC), starting at κ_min
+  double mu = 0.5;       // default friction coefficient (0 disables friction)
+  double eps_v = 1e-3;   // friction smoothing speed (m/s), used as ε_v h
+  bool ground = false;   // the half-space z >= ground_height is a fixed obstacle
+  double ground_height = 0.0;
+  int ground_contact_element = 0;
+  std::vector<int> body_contact_element;  // one contact element id per body; empty: all 0
+  ContactRuleFn contact_table;            // (element a, element b) -> {collide?, μ}; empty: all, mu
+  double ccd_target = 0.1;  // CCD keeps at least this fraction of each pair's gap (safety)
+  bool project_hessian = true;  // PSD-project each barrier stencil (false: exact, for tests)
+};
+
+struct ContactCounts {
+  int point_triangle = 0;
+  int edge_edge = 0;
+  int point_ground = 0;
+  int friction = 0;
+};
+
+class IpcContactTerm : public EnergyTerm {
+ public:
+  explicit IpcContactTerm(const SceneData& scene, const ContactSettings& settings = {});
+  IpcContactTerm(const IpcContactTerm&) = delete;
+  IpcContactTerm& operator=(const IpcContactTerm&) = delete;
+
+  std::string name() const override { return "ipc_contact"; }
+  void begin_step(const StepContext& ctx) override;
+  void update(const VecX& q) override;
+  double value(const VecX& q) const override;
+  void add_gradient(const VecX& q, double scale, VecX& gradient) const override;
+  void add_hessian(const VecX& q, double scale, std::vector<BodyBlock>& blocks) const override;
+  double max_step(const VecX& q, const VecX& dq) const override;
+
+  // Smallest gap d − ξ between primitives (and to the ground) that is below max_distance
+  // (<= 0: d̂); +inf when nothing is that close.
+  double min_distance(const VecX& q, double max_distance = -1.0) const;
+  // Throws std::invalid_argument naming the bodies if q has intersecting surfaces, primitives
+  // closer than their thickness, or vertices at/below the ground (plus thickness).
+  void check_initial(const VecX& q) const;
+
+  double barrier_value(const VecX& q) const;
+  double friction_value(const VecX& q) const;
+
+  double kappa() const { return kappa_; }
+  void set_kappa(double kappa);
+  bool adaptive_kappa() const { return settings_.kappa <= 0.0; }
+  // Adaptive κ only (otherwise returns kappa()): IPC's gradient balance against grad_rest,
+  // the gradient of the rest of Π at q, clamped to [κ_min, κ_max].
+  double initialize_kappa(const VecX& q, const VecX& grad_rest);
+  contact::BarrierStiffness stiffness_bounds() const { return {kappa_, kappa_min_, kappa_max_}; }
+
+  // Diagnostics about the last update() and begin_step().
+  ContactCounts counts() const;
+  const std::vector<contact::ContactStencil>& active_stencils() const { return active_.stencils; }
+  const contact::ContactMesh& mesh() const { return mesh_; }
+  const ContactSettings& settings() const { return settings_; }
+  double bbox_diagonal() const { return bbox_diagonal_; }
+
+ private:
+  contact::BarrierParams barrier_params(double kappa) const;
+  contact::ActiveSet build_active_set(const VecX& q, double reach) const;
+  const contact::ActiveSet& active_set_at(const VecX& q, contact::ActiveSet& scratch) const;
+  void add_barrier_gradient(const contact::ActiveSet& set, double kappa, double scale,
+                            VecX& gradient) const;
+  bool bodies_may_collide(int a, int b) const;
+
+  ContactSettings settings_;
+  contact::ContactMesh mesh_;
+  contact::ContactTable table_;
+  mutable contact::BroadPhase broad_phase_;  // a cache of refit BVHs (see above)
+  contact::ActiveSet active_;
+  std::vector<contact::FrictionStencil> friction_;
+  double friction_eps_ = 0.0;  // ε_v h
+  double dt_ = 0.01;
+  double bbox_diagonal_ = 1.0;
+  double average_mass_ = 1.0;
+  double kappa_ = 0.0, kappa_min_ = 0.0, kappa_max_ = 0.0;
+  double prev_min_gap_ = -1.0;  // for the adaptive update; < 0: none yet
+};
+
+}  // namespace abd

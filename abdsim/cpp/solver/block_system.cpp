@@ -1,0 +1,186 @@
+#include "solver/block_system.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "solver/body_math.h"
+#include "solver/diagnostics.h"
+#include "solver/parallel.h"
+
+namespace abd {
+
+void BlockSystem::reset(int n_bodies, const std::vector<std::uint8_t>& fixed) {
+  n_ = n_bodies;
+  fixed_ = fixed;
+  diag_.resize(n_);
+  offdiag_.clear();
+  row_start_.clear();
+}
+
+void BlockSystem::add_blocks(const std::vector<BodyBlock>& blocks) {
+  for (const BodyBlock& b : blocks) {
+    if (b.row < 0 || b.row >= n_ || b.col < 0 || b.col >= n_)
+      throw SolverError("an energy term returned a Hessian block for body (" +
+                        std::to_string(b.row) + ", " + std::to_string(b.col) +
+                        ") outside [0, " + std::to_string(n_) + ")");
+    if (b.row == b.col) {
+      if (!fixed_[b.row]) diag_[b.row] += b.H;
+    } else if (!fixed_[b.row] && !fixed_[b.col]) {
+      offdiag_.push_back({b.row, b.col, b.H});
+    }
+  }
+}
+
+void BlockSystem::finalize() {
+  std::stable_sort(offdiag_.begin(), offdiag_.end(), [](const OffDiagonal& a, const OffDiagonal& b) {
+    return a.row != b.row ? a.row < b.row : a.col < b.col;
+  });
+  // Sum duplicates; a stable sort keeps the summation order that of the terms.
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < offdiag_.size(); ++i) {
+    if (out > 0 && offdiag_[out - 1].row == offdiag_[i].row &&
+        offdiag_[out - 1].col == offdiag_[i].col) {
+      offdiag_[out - 1].H += offdiag_[i].H;
+    } else {
+      offdiag_[out++] = offdiag_[i];
+    }
+  }
+  offdiag_.resize(out);
+  row_start_.assign(n_ + 1, 0);
+  for (const OffDiagonal& o : offdiag_) ++row_start_[o.row + 1];
+  for (int r = 0; r < n_; ++r) row_start_[r + 1] += row_start_[r];
+  // Every coupling (i, j) must come with (j, i) = (i, j)ᵀ.
+  for (const OffDiagonal& o : offdiag_) {
+    const auto first = offdiag_.begin() + row_start_[o.col];
+    const auto last = offdiag_.begin() + row_start_[o.col + 1];
+    const auto it = std::lower_bound(first, last, o.row,
+                                     [](const OffDiagonal& a, int c) { return a.col < c; });
+    const double scale = o.H.cwiseAbs().maxCoeff();
+    const bool ok = it != last && it->col == o.row &&
+                    (it->H.transpose() - o.H).cwiseAbs().maxCoeff() <= 1e-9 * scale + 1e-300;
+    if (!ok)
+      throw SolverError("the Hessian is not symmetric: block (" + std::to_string(o.row) + ", " +
+                        std::to_string(o.col) +
+                        ") has no matching transposed block; an energy term must add every "
+                        "coupling block (i, j) together with (j, i) = (i, j)ᵀ");
+  }
+}
+
+int BlockSystem::solve_block_diagonal(const VecX& rhs, VecX& x, int threads) const {
+  std::vector<int> failed(n_, 0);
+  parallel_for(n_, threads, [&](int b) {
+    if (fixed_[b]) {
+      x.segment<12>(12 * b).setZero();
+      return;
+    }
+    Mat12 H = diag_[b];
+    Vec12 xb;
+    if (!cholesky_solve<12>(H, Vec12(rhs.segment<12>(12 * b)), xb)) {
+      failed[b] = 1;
+      xb.setZero();
+    }
+    x.segment<12>(12 * b) = xb;
+  });
+  for (int b = 0; b < n_; ++b)
+    if (failed[b]) return b;
+  return -1;
+}
+
+void BlockSystem::solve_direct(const VecX& rhs, VecX& x) const {
+  using Triplet = Eigen::Triplet<double>;
+  std::vector<Triplet> triplets;
+  triplets.reserve(static_cast<std::size_t>(n_) * 78 + offdiag_.size() * 144 / 2);
+  for (int b = 0; b < n_; ++b) {
+    if (fixed_[b]) {
+      for (int k = 0; k < 12; ++k) triplets.emplace_back(12 * b + k, 12 * b + k, 1.0);
+      continue;
+    }
+    for (int c = 0; c < 12; ++c)
+      for (int r = c; r < 12; ++r) triplets.emplace_back(12 * b + r, 12 * b + c, diag_[b](r, c));
+  }
+  // SimplicialLDLT reads the lower triangle: the blocks with row > col.
+  for (const OffDiagonal& o : offdiag_) {
+    if (o.row < o.col) continue;
+    for (int c = 0; c < 12; ++c)
+      for (int r = 0; r < 12; ++r)
+        if (o.H(r, c) != 0.0) triplets.emplace_back(12 * o.row + r, 12 * o.col + c, o.H(r, c));
+  }
+  Eigen::SparseMatrix<double> A(12 * n_, 12 * n_);
+  A.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt(A);
+  if (ldlt.info() != Eigen::Success)
+    throw SolverError("sparse LDLT factorisation of the Newton matrix failed");
+  x = ldlt.solve(rhs);
+  if (ldlt.info() != Eigen::Success || !x.allFinite())
+    throw SolverError("sparse LDLT solve of the Newton system failed (singular matrix?)");
+}
+
+void BlockSystem::multiply(const VecX& v, VecX& out, int threads) const {
+  parallel_for(n_, threads, [&](int r) {
+    if (fixed_[r]) {
+      out.segment<12>(12 * r) = v.segment<12>(12 * r);
+      return;
+    }
+    Vec12 y = diag_[r] * v.segment<12>(12 * r);
+    for (int k = row_start_[r]; k < row_start_[r + 1]; ++k)
+      y.noalias() += offdiag_[k].H * v.segment<12>(12 * offdiag_[k].col);
+    out.segment<12>(12 * r) = y;
+  });
+}
+
+int BlockSystem::solve_pcg(const VecX& rhs, VecX& x, double tolerance, int max_iterations,
+                           int threads) const {
+  const int n = 12 * n_;
+  std::vector<Eigen::LLT<Mat12>> precond(n_);
+  std::vector<int> failed(n_, 0);
+  parallel_for(n_, threads, [&](int b) {
+    if (fixed_[b]) return;
+    precond[b].compute(diag_[b]);
+    if (precond[b].info() != Eigen::Success) failed[b] = 1;
+  });
+  for (int b = 0; b < n_; ++b)
+    if (failed[b])
+      throw SolverError("PCG: the diagonal block of body " + std::to_string(b) +
+                        " is not positive definite");
+  auto apply_precond = [&](const VecX& r, VecX& z) {
+    parallel_for(n_, threads, [&](int b) {
+      if (fixed_[b])
+        z.segment<12>(12 * b) = r.segment<12>(12 * b);
+      else
+        z.segment<12>(12 * b) = precond[b].solve(r.segment<12>(12 * b));
+    });
+  };
+  auto dot = [&](const VecX& a, const VecX& b) {
+    return deterministic_sum(n_, threads,
+                             [&](int i) { return a.segment<12>(12 * i).dot(b.segment<12>(12 * i)); });
+  };
+  x.setZero(n);
+  VecX r = rhs, z(n), p(n), Ap(n);
+  const double rhs_norm = std::sqrt(dot(rhs, rhs));
+  if (rhs_norm == 0.0) return 0;
+  apply_precond(r, z);
+  p = z;
+  double rz = dot(r, z);
+  for (int it = 1; it <= max_iterations; ++it) {
+    multiply(p, Ap, threads);
+    const double pAp = dot(p, Ap);
+    if (!(pAp > 0.0))
+      throw SolverError("PCG: the Newton matrix is not positive definite (pᵀAp = " +
+                        std::to_string(pAp) + ")");
+    const double alpha = rz / pAp;
+    x += alpha * p;
+    r -= alpha * Ap;
+    if (std::sqrt(dot(r, r)) <= tolerance * rhs_norm) return it;
+    apply_precond(r, z);
+    const double rz_new = dot(r, z);
+    p = z + (rz_new / rz) * p;
+    rz = rz_new;
+  }
+  throw SolverError("PCG did not reach the relative residual " + std::to_string(tolerance) +
+                    " in " + std::to_string(max_iterations) + " iterations");
+}
+
+}  // namespace abd

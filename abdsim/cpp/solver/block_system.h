@@ -1,0 +1,52 @@
+// The Newton system H Δq = -g in 12x12 body blocks, and its three solvers: per-body
+// Cholesky when no block couples two bodies, Eigen's sparse LDLᵀ, and PCG with a 12x12
+// block-Jacobi preconditioner.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "solver/energy_term.h"
+
+namespace abd {
+
+class BlockSystem {
+ public:
+  // `fixed[b]` marks bodies whose dofs are prescribed: identity rows, zero right-hand side.
+  void reset(int n_bodies, const std::vector<std::uint8_t>& fixed);
+
+  Mat12& diagonal(int b) { return diag_[b]; }
+  // Adds term blocks: diagonal ones to the body blocks, couplings between two free bodies
+  // to the off-diagonal set (summed per (row, col)). Blocks touching a fixed body only
+  // contribute their diagonal part.
+  void add_blocks(const std::vector<BodyBlock>& blocks);
+  // Call once all blocks are in: sorts the couplings into rows, sums duplicates and checks
+  // that every coupling comes with its transpose (throws SolverError otherwise).
+  void finalize();
+  bool coupled() const { return !offdiag_.empty(); }
+
+  // Per-body solve, valid when !coupled(). Returns the first body whose block is not
+  // positive definite, or -1.
+  int solve_block_diagonal(const VecX& rhs, VecX& x, int threads) const;
+  // Sparse LDLᵀ of the assembled matrix. Throws SolverError on failure.
+  void solve_direct(const VecX& rhs, VecX& x) const;
+  // Returns the iteration count; throws SolverError when it does not converge.
+  int solve_pcg(const VecX& rhs, VecX& x, double tolerance, int max_iterations,
+                int threads) const;
+
+ private:
+  struct OffDiagonal {
+    int row;
+    int col;
+    Mat12 H;
+  };
+  void multiply(const VecX& v, VecX& out, int threads) const;
+
+  int n_ = 0;
+  std::vector<std::uint8_t> fixed_;
+  std::vector<Mat12> diag_;
+  std::vector<OffDiagonal> offdiag_;
+  std::vector<int> row_start_;  // CSR over offdiag_ after finalize()
+};
+
+}  // namespace abd

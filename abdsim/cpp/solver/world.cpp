@@ -1,0 +1,592 @@
+#include "solver/world.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "common/affine.h"
+#include "solver/body_math.h"
+#include "solver/parallel.h"
+
+namespace abd {
+namespace {
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw std::invalid_argument(message);
+}
+
+// Newton outcome of one body (fast path) or of the whole system.
+enum Status : int { kRunning = 0, kConverged, kMaxIterations, kLineSearch, kSingular, kNonFinite };
+
+struct BodyNewton {
+  int status = kRunning;
+  int iterations = 0;
+  double step_translation = 0.0;  // last direction, velocity units
+  double step_affine = 0.0;
+  double residual = 0.0;
+  double kinetic = 0.0;
+  double shape = 0.0;
+};
+
+// Largest |Δp_k| / h and |ΔA_kl| / h of a 12-dof step.
+void step_sizes(const Vec12& dq, double h, double& translation, double& affine) {
+  translation = dq.head<3>().cwiseAbs().maxCoeff() / h;
+  affine = dq.tail<9>().cwiseAbs().maxCoeff() / h;
+}
+
+// Roundoff allowance in the sufficient-decrease test: Π is a sum of terms of its own size,
+// so a change below ~1e-12 |Π| is noise, not an increase.
+double roundoff(double energy) { return 1e-12 * std::abs(energy); }
+
+}  // namespace
+
+World::World(const SceneData& scene, const SolverSettings& settings)
+    : scene_(scene), settings_(settings), n_(static_cast<int>(scene.bodies.size())),
+      shape_(scene, settings.project_psd) {
+  require(std::isfinite(scene.dt) && scene.dt > 0.0,
+          "dt must be a positive finite number, got " + std::to_string(scene.dt));
+  require(scene.gravity.allFinite(), "gravity must be finite");
+  require(settings.tol_translation > 0.0 && settings.tol_affine > 0.0,
+          "Newton tolerances must be positive");
+  require(settings.max_newton_iterations >= 1, "max_newton_iterations must be >= 1");
+  require(settings.max_line_search_iterations >= 1, "max_line_search_iterations must be >= 1");
+  require(settings.ccd_safety > 0.0 && settings.ccd_safety <= 1.0, "ccd_safety must be in (0, 1]");
+  require(settings.armijo_c >= 0.0 && settings.armijo_c < 1.0, "armijo_c must be in [0, 1)");
+  require(settings.pcg_tolerance > 0.0 && settings.pcg_max_iterations >= 1,
+          "PCG tolerance and iteration cap must be positive");
+  require(settings.integrator == Integrator::kBDF1 || settings.integrator == Integrator::kBDF2,
+          "unknown integrator");
+  threads_ = resolve_threads(settings.num_threads);
+
+  const int ng = static_cast<int>(scene.geometries.size());
+  q_.resize(12 * n_);
+  q_dot_.resize(12 * n_);
+  dyadic_.resize(n_);
+  fixed_.resize(n_);
+  dynamic_.resize(n_);
+  external_kinetic_.resize(n_);
+  kinematic_.assign(n_, 0);
+  for (int b = 0; b < n_; ++b) {
+    const BodyData& body = scene.bodies[b];
+    require(ng == 0 || (body.geometry >= 0 && body.geometry < ng),
+            describe(b) + ": geometry index " + std::to_string(body.geometry) + " out of range");
+    require(body.q.allFinite(), describe(b) + ": initial state (transform) is not finite");
+    require(body.q_dot.allFinite(), describe(b) + ": initial velocity is not finite");
+    require(std::isfinite(body.kappa) && body.kappa >= 0.0,
+            describe(b) + ": kappa must be finite and >= 0");
+    require(std::isfinite(body.volume) && body.volume > 0.0,
+            describe(b) + ": volume must be positive and finite");
+    require(std::isfinite(body.mass) && body.mass > 0.0 && body.mass_x_bar.allFinite() &&
+                body.mass_x_bar_x_bar.allFinite(),
+            describe(b) + ": dyadic mass must be finite with abd_mass > 0");
+    DyadicMass dm;
+    dm.m = body.mass;
+    dm.m_x_bar = body.mass_x_bar;
+    dm.S = 0.5 * (body.mass_x_bar_x_bar + body.mass_x_bar_x_bar.transpose());
+    // M is SPD iff m > 0 and the central second moment S − m x̄ x̄ᵀ/m is positive definite.
+    const Mat3 central = dm.S - dm.m_x_bar * dm.m_x_bar.transpose() / dm.m;
+    const Vec3 ev = Eigen::SelfAdjointEigenSolver<Mat3>(central, Eigen::EigenvaluesOnly).eigenvalues();
+    require(ev[0] > 1e-12 * std::max(ev[2], 0.0) && ev[2] > 0.0,
+            describe(b) + ": singular mass matrix (the central second moment S - m x̄ x̄ᵀ/m has "
+                          "eigenvalues " + std::to_string(ev[0]) + ", " + std::to_string(ev[1]) +
+                          ", " + std::to_string(ev[2]) +
+                          "); a flat or degenerate body needs a thickness");
+    dyadic_[b] = dm;
+    q_.segment<12>(12 * b) = body.q;
+    q_dot_.segment<12>(12 * b) = body.is_fixed ? Vec12::Zero() : body.q_dot;
+    fixed_[b] = body.is_fixed;
+    dynamic_[b] = body.is_dynamic;
+    external_kinetic_[b] = body.external_kinetic;
+  }
+  kinematic_target_ = q_;
+  q_prev_ = q_;
+  q_dot_prev_ = q_dot_;
+}
+
+std::string World::describe(int body) const {
+  return "body " + std::to_string(body) + " (geometry " +
+         std::to_string(scene_.bodies[body].geometry) + ")";
+}
+
+int World::check_body(int body) const {
+  if (body < 0 || body >= n_)
+    throw std::out_of_range("body index " + std::to_string(body) + " out of range [0, " +
+                            std::to_string(n_) + ")");
+  return body;
+}
+
+void World::add_term(std::shared_ptr<EnergyTerm> term) {
+  require(term != nullptr, "add_term: null energy term");
+  terms_.push_back(std::move(term));
+}
+
+void World::set_state(const VecX& q, const VecX& q_dot) {
+  require(q.size() == 12 * n_ && q_dot.size() == 12 * n_,
+          "set_state: q and q_dot must have 12 * n_bodies = " + std::to_string(12 * n_) +
+              " entries");
+  require(q.allFinite() && q_dot.allFinite(), "set_state: state is not finite");
+  q_ = q;
+  q_dot_ = q_dot;
+  for (int b = 0; b < n_; ++b) {
+    if (fixed_[b]) q_dot_.segment<12>(12 * b).setZero();
+    if (kinematic_[b]) kinematic_target_.segment<12>(12 * b) = q_.segment<12>(12 * b);
+  }
+  has_history_ = false;
+}
+
+void World::set_time(double t) {
+  require(std::isfinite(t), "set_time: time must be finite");
+  time_ = time_base_ = t;
+  step_base_ = step_count_;
+}
+
+void World::set_kinematic_target(int body, const Vec12& q_target) {
+  check_body(body);
+  require(!fixed_[body], describe(body) + " is fixed and cannot be driven kinematically");
+  require(q_target.allFinite(), describe(body) + ": kinematic target is not finite");
+  kinematic_[body] = 1;
+  kinematic_target_.segment<12>(12 * body) = q_target;
+}
+
+void World::release_kinematic(int body) {
+  check_body(body);
+  kinematic_[body] = 0;
+}
+
+// q̂, q̃, the constrained mask and the Newton predictor x_pred for this step (c = h, or
+// 2h/3 for BDF2).
+//
+// Predictor: q̃ moves A along Ȧ, which for a rotating body leaves the rotations by
+// O(h²|Ȧ|²); a stiff shape energy then spends Newton iterations just pulling it back. We
+// write Ã = F A_t and replace the increment F by one Björck step F (3I − FᵀF)/2, which
+// removes F's departure from a rotation to second order while keeping A_t's own deformation;
+// p is shifted so that the centre of mass stays where q̃ puts it. Only applied to modest
+// increments (|FᵀF − I| < 0.1), where the iteration contracts. Only the start point
+// changes: Newton still minimises Π.
+void World::predict_body(int b, double c, bool bdf2) {
+  const Vec3 g_step = c * c * scene_.gravity;
+  const auto qt = q_.segment<12>(12 * b);
+  auto q_hat = q_hat_.segment<12>(12 * b);
+  auto q_tilde = q_tilde_.segment<12>(12 * b);
+  constrained_[b] = fixed_[b] || kinematic_[b];
+  if (bdf2) {
+    q_hat = (4.0 * qt - q_prev_.segment<12>(12 * b)) / 3.0;
+  } else {
+    q_hat = qt;
+  }
+  if (fixed_[b]) {
+    q_tilde = qt;
+  } else if (kinematic_[b]) {
+    q_tilde = kinematic_target_.segment<12>(12 * b);
+  } else if (dynamic_[b]) {
+    const Vec12 v_hat = bdf2 ? Vec12((4.0 * q_dot_.segment<12>(12 * b) -
+                                      q_dot_prev_.segment<12>(12 * b)) / 3.0)
+                             : Vec12(q_dot_.segment<12>(12 * b));
+    q_tilde = q_hat + c * v_hat;
+    q_tilde.head<3>() += g_step;
+  } else {  // quasi-static: no velocity term
+    q_tilde = qt;
+    q_tilde.head<3>() += g_step;
+  }
+  Vec12 pred = q_tilde;
+  if (!constrained_[b]) {
+    const Mat3 A = affine_A(pred);
+    Mat3 At_inv;
+    double det = 0.0;
+    bool invertible = false;
+    affine_A(qt).computeInverseAndDetWithCheck(At_inv, det, invertible, 1e-12);
+    const Mat3 F = A * At_inv;
+    const Mat3 FtF = F.transpose() * F;
+    if (invertible && (FtF - Mat3::Identity()).cwiseAbs().maxCoeff() < 0.1) {
+      const Mat3 A_orth = 0.5 * F * (3.0 * Mat3::Identity() - FtF) * affine_A(qt);
+      const Vec3 center = dyadic_[b].m_x_bar / dyadic_[b].m;
+      pred = q_from(A_orth, affine_p(pred) - (A_orth - A) * center);
+    }
+  }
+  x_pred_.segment<12>(12 * b) = pred;
+}
+
+// Velocity at the end of the step, from x_ (BDF1: (x − q_t)/h; BDF2: (x − q̂)/c).
+void World::finish_body(int b, double c) {
+  auto v = q_dot_new_.segment<12>(12 * b);
+  const auto x = x_.segment<12>(12 * b);
+  if (fixed_[b]) {
+    v.setZero();
+  } else if (dynamic_[b] || kinematic_[b]) {
+    v = (x - q_hat_.segment<12>(12 * b)) / c;
+  } else {
+    v = (x - q_.segment<12>(12 * b)) / scene_.dt;
+  }
+}
+
+const StepDiagnostics& World::step() {
+  const auto t_start = std::chrono::steady_clock::now();
+  const double h = scene_.dt;
+  const bool bdf2 = settings_.integrator == Integrator::kBDF2 && has_history_;
+  const double c = bdf2 ? 2.0 * h / 3.0 : h;
+  const double c2 = c * c;
+  for (VecX* v : {&q_hat_, &q_tilde_, &x_pred_, &x_, &q_dot_new_}) v->resize(12 * n_);
+  constrained_.resize(n_);
+
+  StepDiagnostics d;
+  d.step = step_count_;
+  if (terms_.empty() && settings_.linear_solver == LinearSolverKind::kAuto) {
+    step_per_body(c, bdf2, d);  // predictions, Newton and velocities in one parallel loop
+  } else {
+    parallel_for(n_, threads_, [&](int b) { predict_body(b, c, bdf2); });
+    solve_global(c2, d);
+    parallel_for(n_, threads_, [&](int b) { finish_body(b, c); });
+  }
+  if (!x_.allFinite() || !q_dot_new_.allFinite())
+    throw SolverError("the step produced a non-finite state");
+
+  q_prev_.swap(q_);
+  q_dot_prev_.swap(q_dot_);
+  q_.swap(x_);
+  q_dot_.swap(q_dot_new_);
+  has_history_ = true;
+  ++step_count_;
+  time_ = time_base_ + static_cast<double>(step_count_ - step_base_) * h;
+
+  d.time = time_;
+  d.wall_time =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  diag_ = std::move(d);
+  if (history_limit_ > 0) {
+    if (history_.size() >= history_limit_) history_.pop_front();
+    history_.push_back(diag_);
+  }
+  return diag_;
+}
+
+void World::set_history_limit(std::size_t limit) {
+  history_limit_ = limit;
+  while (history_.size() > history_limit_) history_.pop_front();
+}
+
+// ---------------------------------------------------------------------------------------
+// Fast path: no term couples bodies, so Π is a sum of per-body potentials and every body
+// runs its own Newton iteration (12x12 Cholesky, own line search), in parallel: one parallel
+// loop per step; results do not depend on which thread ran which body.
+void World::step_per_body(double c, bool bdf2, StepDiagnostics& d) {
+  d.linear_solver = "block_diagonal";
+  const double h = scene_.dt;
+  const double c2 = c * c;
+  const int max_it = settings_.max_newton_iterations;
+  std::vector<BodyNewton> result(n_);
+  // Smallest accepted alpha per iteration, per thread (min is exact in any order).
+  std::vector<std::vector<double>> alphas(threads_, std::vector<double>(max_it, 2.0));
+
+  parallel_for_slot(n_, threads_, [&](int b, int slot) {
+    predict_body(b, c, bdf2);
+    BodyNewton& r = result[b];
+    if (constrained_[b]) {
+      r.status = kConverged;
+      r.shape = shape_.body_value(b, q_tilde_.segment<12>(12 * b));
+      x_.segment<12>(12 * b) = q_tilde_.segment<12>(12 * b);
+      finish_body(b, c);
+      return;
+    }
+    std::vector<double>& my_alphas = alphas[slot];
+    const DyadicMass& dm = dyadic_[b];
+    const bool kinetic = !external_kinetic_[b];
+    const Vec12 qt = q_tilde_.segment<12>(12 * b);
+    Vec12 x = x_pred_.segment<12>(12 * b);
+    auto energy = [&](const Vec12& y, double& ek, double& es) {
+      ek = kinetic ? mass_quadratic(dm, y - qt) : 0.0;
+      es = shape_.body_value(b, y);
+      return ek + c2 * es;
+    };
+    double E = energy(x, r.kinetic, r.shape);
+    for (int it = 0; it < max_it; ++it) {
+      Vec12 g;
+      Mat12 H;
+      if (kinetic) {
+        g = mass_times(dm, x - qt);
+        H = dm.matrix();
+      } else {
+        g.setZero();
+        H.setZero();
+      }
+      shape_.add_body_derivatives(b, x, c2, g, H);
+      r.residual = g.cwiseAbs().maxCoeff();
+      r.iterations = it + 1;
+      Vec12 dq;
+      if (!cholesky_solve<12>(H, Vec12(-g), dq)) {
+        r.status = kSingular;
+        break;
+      }
+      if (!dq.allFinite()) {
+        r.status = kNonFinite;
+        break;
+      }
+      step_sizes(dq, h, r.step_translation, r.step_affine);
+      const bool converged =
+          r.step_translation <= settings_.tol_translation && r.step_affine <= settings_.tol_affine;
+      const double slope = g.dot(dq);
+      double alpha = 1.0;
+      bool accepted = false;
+      double ek = 0.0, es = 0.0, E_new = E;
+      for (int ls = 0; ls < settings_.max_line_search_iterations; ++ls) {
+        E_new = energy(x + alpha * dq, ek, es);
+        if (E_new <= E + settings_.armijo_c * alpha * slope + roundoff(E)) {
+          accepted = true;
+          break;
+        }
+        alpha *= 0.5;
+      }
+      if (accepted) {
+        x += alpha * dq;
+        E = E_new;
+        r.kinetic = ek;
+        r.shape = es;
+        my_alphas[it] = std::min(my_alphas[it], alpha);
+      } else if (!converged) {
+        r.status = kLineSearch;
+        break;
+      }
+      if (converged) {
+        r.status = kConverged;
+        break;
+      }
+    }
+    if (r.status == kRunning) r.status = kMaxIterations;
+    x_.segment<12>(12 * b) = x;
+    finish_body(b, c);
+  });
+
+  // Report the first failing body (lowest index: the same whatever the thread count).
+  for (int b = 0; b < n_; ++b) {
+    const BodyNewton& r = result[b];
+    if (r.status == kConverged) continue;
+    std::ostringstream msg;
+    msg << "Newton failed for " << describe(b) << " at step " << step_count_ << " (t = " << time_
+        << "): ";
+    switch (r.status) {
+      case kSingular:
+        msg << "its 12x12 Newton matrix is not positive definite"
+            << (external_kinetic_[b] ? " (external_kinetic = 1 and no energy term holds it)" : "");
+        break;
+      case kNonFinite:
+        msg << "the Newton direction is not finite";
+        break;
+      case kLineSearch:
+        msg << "the line search found no decrease of Π in " << settings_.max_line_search_iterations
+            << " halvings";
+        break;
+      default:
+        msg << "no convergence in " << r.iterations << " iterations";
+    }
+    msg << "; last step " << r.step_translation << " m/s, " << r.step_affine
+        << " 1/s (tolerances " << settings_.tol_translation << ", " << settings_.tol_affine
+        << "), residual " << r.residual;
+    throw SolverError(msg.str());
+  }
+
+  d.converged = true;
+  double kinetic = 0.0, shape = 0.0;
+  for (int b = 0; b < n_; ++b) {
+    const BodyNewton& r = result[b];
+    d.newton_iterations = std::max(d.newton_iterations, r.iterations);
+    d.total_body_iterations += r.iterations;
+    d.step_translation = std::max(d.step_translation, r.step_translation);
+    d.step_affine = std::max(d.step_affine, r.step_affine);
+    d.residual = std::max(d.residual, r.residual);
+    kinetic += r.kinetic;
+    shape += r.shape;
+  }
+  for (int it = 0; it < d.newton_iterations; ++it) {
+    double a = 2.0;
+    for (const auto& t : alphas) a = std::min(a, t[it]);
+    d.line_search_alphas.push_back(a <= 1.0 ? a : 1.0);
+  }
+  d.energies = {{"kinetic", kinetic}, {"shape", shape}, {"total", kinetic + c2 * shape}};
+}
+
+// ---------------------------------------------------------------------------------------
+// Global path: terms may couple bodies and bound the step (CCD).
+
+// Π at x; `parts` (if given) receives kinetic, shape, then each term's value.
+double World::total_energy(const VecX& x, double c2, std::vector<double>* parts) const {
+  const double kinetic = deterministic_sum(n_, threads_, [&](int b) {
+    if (constrained_[b] || external_kinetic_[b]) return 0.0;
+    return mass_quadratic(dyadic_[b], x.segment<12>(12 * b) - q_tilde_.segment<12>(12 * b));
+  });
+  const double shape = deterministic_sum(
+      n_, threads_, [&](int b) { return shape_.body_value(b, x.segment<12>(12 * b)); });
+  double potential = shape;
+  if (parts) parts->assign({kinetic, shape});
+  for (const auto& t : terms_) {
+    const double v = t->value(x);
+    potential += v;
+    if (parts) parts->push_back(v);
+  }
+  return kinetic + c2 * potential;
+}
+
+// Start of the Newton iteration: kinematic bodies at their targets, free bodies moved
+// towards q̃ as far as every term allows (the start must be feasible, e.g. intersection-free).
+void World::initial_guess(double c2, StepDiagnostics& d) {
+  const StepContext ctx{scene_.dt, q_, q_dot_, c2};
+  for (const auto& t : terms_) t->begin_step(ctx);
+  auto min_max_step = [&](const VecX& from, const VecX& dq) {
+    double a = 1.0;
+    for (const auto& t : terms_) a = std::min(a, t->max_step(from, dq));
+    d.min_term_max_step = std::min(d.min_term_max_step, a);
+    return a;
+  };
+  VecX full = x_pred_ - q_;  // zero for fixed bodies
+  x_ = q_;
+  if (min_max_step(q_, full) >= 1.0) {
+    x_ += full;
+  } else {
+    VecX kin = VecX::Zero(12 * n_);
+    bool any_kinematic = false;
+    for (int b = 0; b < n_; ++b)
+      if (kinematic_[b]) {
+        kin.segment<12>(12 * b) = full.segment<12>(12 * b);
+        full.segment<12>(12 * b).setZero();
+        any_kinematic = true;
+      }
+    if (any_kinematic) {
+      const double a = min_max_step(q_, kin);
+      if (a < 1.0)
+        throw SolverError(
+            "the prescribed motion of the kinematic bodies is blocked by an energy term's step "
+            "bound (max_step = " + std::to_string(a) +
+            "): a kinematic target would pass through contact within one step");
+      x_ += kin;
+    }
+    const double a = min_max_step(x_, full);
+    x_ += (a >= 1.0 ? 1.0 : settings_.ccd_safety * a) * full;
+  }
+  for (const auto& t : terms_) t->update(x_);
+}
+
+void World::solve_global(double c2, StepDiagnostics& d) {
+  const double h = scene_.dt;
+  initial_guess(c2, d);
+  grad_.resize(12 * n_);
+  dq_.resize(12 * n_);
+  std::vector<double> parts;
+  double E = total_energy(x_, c2, &parts);
+  bool converged = false;
+
+  for (int it = 0; it < settings_.max_newton_iterations && !converged; ++it) {
+    d.newton_iterations = it + 1;
+    system_.reset(n_, constrained_);
+    parallel_for(n_, threads_, [&](int b) {
+      Vec12 g = Vec12::Zero();
+      Mat12& H = system_.diagonal(b);
+      H.setZero();
+      if (!constrained_[b]) {
+        if (!external_kinetic_[b]) {
+          g = mass_times(dyadic_[b], x_.segment<12>(12 * b) - q_tilde_.segment<12>(12 * b));
+          H = dyadic_[b].matrix();
+        }
+        shape_.add_body_derivatives(b, x_.segment<12>(12 * b), c2, g, H);
+      }
+      grad_.segment<12>(12 * b) = g;
+    });
+    blocks_.clear();
+    for (const auto& t : terms_) {
+      t->add_gradient(x_, c2, grad_);
+      t->add_hessian(x_, c2, blocks_);
+    }
+    for (int b = 0; b < n_; ++b)
+      if (constrained_[b]) grad_.segment<12>(12 * b).setZero();
+    if (!grad_.allFinite()) throw SolverError("the gradient of Π is not finite");
+    system_.add_blocks(blocks_);
+    system_.finalize();
+    d.residual = grad_.cwiseAbs().maxCoeff();
+
+    const VecX rhs = -grad_;
+    LinearSolverKind kind = settings_.linear_solver;
+    const bool per_body = kind == LinearSolverKind::kAuto && !system_.coupled();
+    if (kind == LinearSolverKind::kAuto)
+      kind = 12 * n_ <= settings_.direct_max_dofs ? LinearSolverKind::kDirect
+                                                  : LinearSolverKind::kPCG;
+    if (per_body) {
+      d.linear_solver = "block_diagonal";
+      const int bad = system_.solve_block_diagonal(rhs, dq_, threads_);
+      if (bad >= 0)
+        throw SolverError("Newton failed at step " + std::to_string(step_count_) + ": the 12x12 "
+                          "Newton matrix of " + describe(bad) + " is not positive definite" +
+                          (external_kinetic_[bad] ? " (external_kinetic = 1 and no energy term "
+                                                    "holds it)"
+                                                  : ""));
+    } else if (kind == LinearSolverKind::kDirect) {
+      d.linear_solver = "direct";
+      system_.solve_direct(rhs, dq_);
+    } else if (kind == LinearSolverKind::kPCG) {
+      d.linear_solver = "pcg";
+      d.pcg_iterations += system_.solve_pcg(rhs, dq_, settings_.pcg_tolerance,
+                                            settings_.pcg_max_iterations, threads_);
+    }
+    if (!dq_.allFinite()) throw SolverError("the Newton direction is not finite");
+
+    d.step_translation = d.step_affine = 0.0;
+    for (int b = 0; b < n_; ++b) {
+      double st, sa;
+      step_sizes(dq_.segment<12>(12 * b), h, st, sa);
+      d.step_translation = std::max(d.step_translation, st);
+      d.step_affine = std::max(d.step_affine, sa);
+    }
+    converged = d.step_translation <= settings_.tol_translation &&
+                d.step_affine <= settings_.tol_affine;
+
+    double bound = 1.0;
+    for (const auto& t : terms_) bound = std::min(bound, t->max_step(x_, dq_));
+    d.min_term_max_step = std::min(d.min_term_max_step, bound);
+    double alpha = bound >= 1.0 ? 1.0 : settings_.ccd_safety * bound;
+    const double slope = grad_.dot(dq_);
+    bool accepted = false;
+    std::vector<double> trial_parts;
+    double E_new = E;
+    for (int ls = 0; ls < settings_.max_line_search_iterations; ++ls) {
+      trial_ = x_ + alpha * dq_;
+      E_new = total_energy(trial_, c2, &trial_parts);
+      if (E_new <= E + settings_.armijo_c * alpha * slope + roundoff(E)) {
+        accepted = true;
+        break;
+      }
+      alpha *= 0.5;
+    }
+    if (!accepted) {
+      if (converged) break;
+      std::ostringstream msg;
+      msg << "Newton failed at step " << step_count_ << " (t = " << time_
+          << "): the line search found no decrease of Π in "
+          << settings_.max_line_search_iterations << " halvings (iteration " << it + 1
+          << ", step bound " << bound << ", last step " << d.step_translation << " m/s, "
+          << d.step_affine << " 1/s)";
+      throw SolverError(msg.str());
+    }
+    x_.swap(trial_);
+    E = E_new;
+    parts.swap(trial_parts);
+    d.line_search_alphas.push_back(alpha);
+    for (const auto& t : terms_) t->update(x_);
+  }
+  if (!converged) {
+    std::ostringstream msg;
+    msg << "Newton did not converge in " << settings_.max_newton_iterations
+        << " iterations at step " << step_count_ << " (t = " << time_ << "): last step "
+        << d.step_translation << " m/s, " << d.step_affine << " 1/s (tolerances "
+        << settings_.tol_translation << ", " << settings_.tol_affine << "), residual "
+        << d.residual;
+    throw SolverError(msg.str());
+  }
+  d.converged = true;
+  d.total_body_iterations = static_cast<long>(d.newton_iterations) * n_;
+  d.energies = {{"kinetic", parts[0]}, {"shape", parts[1]}};
+  for (std::size_t k = 0; k < terms_.size(); ++k)
+    d.energies.emplace_back(terms_[k]->name(), parts[2 + k]);
+  d.energies.emplace_back("total", E);
+}
+
+}  // namespace abd

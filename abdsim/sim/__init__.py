@@ -1,0 +1,22 @@
+"""Simulation: Scene (what to simulate, with which settings) and World (the stepper)."""
+
+from abdsim.sim.scene import BodyHandle, Scene
+from abdsim.sim.settings import SceneSettings
+from abdsim.sim.world import (
+    SolverError,
+    StepDiagnostics,
+    World,
+    q_to_transforms,
+    transforms_to_q,
+)
+
+__all__ = [
+    "BodyHandle",
+    "Scene",
+    "SceneSettings",
+    "SolverError",
+    "StepDiagnostics",
+    "World",
+    "q_to_transforms",
+    "transforms_to_q",
+]

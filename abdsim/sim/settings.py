@@ -1,0 +1,129 @@
+"""All settings of a simulation, in one dataclass (the Scene owns one)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from typing import Literal
+
+import numpy as np
+
+from abdsim._native import _core
+
+_INTEGRATORS = {"bdf1": _core.Integrator.BDF1, "bdf2": _core.Integrator.BDF2}
+_LINEAR_SOLVERS = {
+    "auto": _core.LinearSolver.AUTO,
+    "direct": _core.LinearSolver.DIRECT,
+    "pcg": _core.LinearSolver.PCG,
+}
+
+
+@dataclass
+class SceneSettings:
+    """Time stepping and solver settings (SI units).
+
+    Time stepping:
+        dt: time step h (s).
+        gravity: acceleration (m/s²), acting on the translation p of every body.
+        integrator: ``"bdf1"`` (implicit Euler: robust, dissipative) or ``"bdf2"`` (second
+            order, much less numerical damping; its first step is a BDF1 step).
+
+    Newton (projected Newton on the incremental potential Π, ABD_NOTES §6):
+        newton_tol_translation: stop when every body's last step |Δp|∞ ≤ this · dt (m/s).
+        newton_tol_affine: ... and every |ΔA|∞ ≤ this · dt (1/s). The converged step is still
+            applied, so what is left is of second order in these numbers (free flight: AAᵀ
+            stays within ~1e-7 of I).
+        newton_max_iterations: Newton iterations before a step fails with SolverError.
+        line_search_max_iterations: halvings of the backtracking (Armijo) line search.
+        armijo_c: sufficient-decrease constant of the line search.
+        ccd_safety: a step bounded by an energy term's ``max_step`` (CCD) is taken to this
+            fraction of the bound (IPC's 0.8).
+
+    Linear solver:
+        linear_solver: ``"auto"``: bodies that no energy term couples are solved per body (a
+            12x12 Cholesky each; with no extra term every body runs its own Newton solve);
+            coupled systems use the sparse direct solver (Eigen SimplicialLDLT) up to
+            ``direct_max_dofs`` unknowns and PCG with a 12x12 block-Jacobi preconditioner
+            above. ``"direct"`` / ``"pcg"`` force one (on the global Newton system).
+        direct_max_dofs: size limit (12 per body) of the direct solver under ``"auto"``.
+        pcg_tolerance: relative residual at which PCG stops.
+        pcg_max_iterations: PCG iterations before a step fails.
+
+    Other:
+        project_psd: project the shape-energy Hessian to PSD (leave on).
+        num_threads: OpenMP threads (0: OpenMP's default). Results are bit-identical for any
+            number of threads.
+        history_limit: per-step diagnostics kept in ``World.history`` (0: none).
+    """
+
+    dt: float = 0.01
+    gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+    integrator: Literal["bdf1", "bdf2"] = "bdf1"
+    newton_tol_translation: float = 0.01
+    newton_tol_affine: float = 0.1
+    newton_max_iterations: int = 50
+    line_search_max_iterations: int = 40
+    armijo_c: float = 1e-4
+    ccd_safety: float = 0.8
+    linear_solver: Literal["auto", "direct", "pcg"] = "auto"
+    direct_max_dofs: int = 12000
+    pcg_tolerance: float = 1e-8
+    pcg_max_iterations: int = 2000
+    project_psd: bool = True
+    num_threads: int = 0
+    history_limit: int = 10000
+    # Contact settings (d_hat, friction, contact_stiffness, eps_v, ...) belong here too.
+
+    @classmethod
+    def field_names(cls) -> list[str]:
+        return [f.name for f in fields(cls)]
+
+    def validate(self) -> None:
+        """Raise ValueError for any setting out of its range."""
+        if not (isinstance(self.dt, (int, float)) and math.isfinite(self.dt) and self.dt > 0):
+            raise ValueError(f"dt must be a positive finite number, got {self.dt!r}")
+        g = np.asarray(self.gravity, dtype=np.float64)
+        if g.shape != (3,) or not np.isfinite(g).all():
+            raise ValueError(f"gravity must be 3 finite numbers, got {self.gravity!r}")
+        if self.integrator not in _INTEGRATORS:
+            raise ValueError(
+                f"integrator must be one of {list(_INTEGRATORS)}, got {self.integrator!r}"
+            )
+        if self.linear_solver not in _LINEAR_SOLVERS:
+            raise ValueError(
+                f"linear_solver must be one of {list(_LINEAR_SOLVERS)}, got {self.linear_solver!r}"
+            )
+        positive = ("newton_tol_translation", "newton_tol_affine", "pcg_tolerance")
+        for name in positive:
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v > 0):
+                raise ValueError(f"{name} must be positive and finite, got {v!r}")
+        for name in ("newton_max_iterations", "line_search_max_iterations", "pcg_max_iterations"):
+            if int(getattr(self, name)) < 1:
+                raise ValueError(f"{name} must be >= 1, got {getattr(self, name)!r}")
+        if not 0 < self.ccd_safety <= 1:
+            raise ValueError(f"ccd_safety must be in (0, 1], got {self.ccd_safety!r}")
+        if not 0 <= self.armijo_c < 1:
+            raise ValueError(f"armijo_c must be in [0, 1), got {self.armijo_c!r}")
+        for name in ("direct_max_dofs", "num_threads", "history_limit"):
+            if int(getattr(self, name)) < 0:
+                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)!r}")
+
+    def to_core(self) -> _core.SolverSettings:
+        """The C++ solver settings (validated)."""
+        self.validate()
+        s = _core.SolverSettings()
+        s.integrator = _INTEGRATORS[self.integrator]
+        s.tol_translation = float(self.newton_tol_translation)
+        s.tol_affine = float(self.newton_tol_affine)
+        s.max_newton_iterations = int(self.newton_max_iterations)
+        s.max_line_search_iterations = int(self.line_search_max_iterations)
+        s.armijo_c = float(self.armijo_c)
+        s.ccd_safety = float(self.ccd_safety)
+        s.linear_solver = _LINEAR_SOLVERS[self.linear_solver]
+        s.direct_max_dofs = int(self.direct_max_dofs)
+        s.pcg_tolerance = float(self.pcg_tolerance)
+        s.pcg_max_iterations = int(self.pcg_max_iterations)
+        s.project_psd = bool(self.project_psd)
+        s.num_threads = int(self.num_threads)
+        return s

@@ -1,0 +1,371 @@
+"""World: the C++ stepper built from a Scene, with a NumPy-in / NumPy-out API."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from abdsim._native import _core
+from abdsim.constitution.rigid_body import _dyadic_of
+from abdsim.sim.scene import BodyHandle, Scene
+
+SolverError = _core.SolverError
+
+#: A kinematic schedule: time at the end of a step (s) -> 4x4 transform of the body then.
+Schedule = Callable[[float], np.ndarray]
+
+
+@dataclass(frozen=True)
+class StepDiagnostics:
+    """What one time step did.
+
+    Attributes:
+        step: index of the step (0 for the first).
+        time: simulated time at the end of the step (s).
+        newton_iterations: Newton iterations (per-body fast path: the most any body took).
+        total_body_iterations: body-iterations summed over bodies.
+        converged: always True for a returned step (a failed step raises SolverError).
+        step_translation: last Newton step, max |Δp| / dt (m/s).
+        step_affine: last Newton step, max |ΔA| / dt (1/s).
+        residual: max |∇Π| at the start of the last Newton iteration.
+        line_search_alphas: accepted line-search step per Newton iteration (fast path: the
+            smallest over bodies).
+        min_term_max_step: smallest step bound (CCD) an energy term returned; 1 if none.
+        energies: ``kinetic`` (½|q − q̃|²_M), ``shape`` and each added term (potentials,
+            unscaled) and ``total`` (Π), at the end of the step.
+        linear_solver: ``"block_diagonal"``, ``"direct"`` or ``"pcg"``.
+        pcg_iterations: PCG iterations summed over the step's Newton iterations.
+        wall_time: seconds spent in the C++ step.
+    """
+
+    step: int
+    time: float
+    newton_iterations: int
+    total_body_iterations: int
+    converged: bool
+    step_translation: float
+    step_affine: float
+    residual: float
+    line_search_alphas: tuple[float, ...]
+    min_term_max_step: float
+    energies: dict[str, float]
+    linear_solver: str
+    pcg_iterations: int
+    wall_time: float
+
+    @classmethod
+    def from_core(cls, d: _core.StepDiagnostics) -> StepDiagnostics:
+        return cls(
+            step=d.step,
+            time=d.time,
+            newton_iterations=d.newton_iterations,
+            total_body_iterations=d.total_body_iterations,
+            converged=d.converged,
+            step_translation=d.step_translation,
+            step_affine=d.step_affine,
+            residual=d.residual,
+            line_search_alphas=tuple(d.line_search_alphas),
+            min_term_max_step=d.min_term_max_step,
+            energies=dict(d.energies),
+            linear_solver=d.linear_solver,
+            pcg_iterations=d.pcg_iterations,
+            wall_time=d.wall_time,
+        )
+
+
+def transforms_to_q(T: np.ndarray) -> np.ndarray:
+    """(n, 4, 4) transforms [[A, p], [0, 1]] (or their time derivatives) -> (n, 12) q."""
+    T = np.asarray(T, dtype=np.float64)
+    return np.concatenate([T[:, :3, 3], T[:, :3, :3].reshape(len(T), 9)], axis=1)
+
+
+def q_to_transforms(q: np.ndarray, homogeneous: bool = True) -> np.ndarray:
+    """(n, 12) q -> (n, 4, 4); bottom row [0, 0, 0, 1] (or zeros for a velocity)."""
+    q = np.asarray(q, dtype=np.float64)
+    T = np.zeros((len(q), 4, 4))
+    T[:, :3, 3] = q[:, :3]
+    T[:, :3, :3] = q[:, 3:].reshape(-1, 3, 3)
+    if homogeneous:
+        T[:, 3, 3] = 1.0
+    return T
+
+
+def _as_transforms(T: np.ndarray, n: int, what: str) -> np.ndarray:
+    T = np.asarray(T, dtype=np.float64)
+    if T.shape == (4, 4) and n == 1:
+        T = T[None]
+    if T.shape != (n, 4, 4):
+        raise ValueError(f"{what} must have shape ({n}, 4, 4), got {T.shape}")
+    if not np.isfinite(T).all():
+        raise ValueError(f"{what} contain NaN or infinite values")
+    return T
+
+
+def _check_bottom_row(T: np.ndarray, what: str) -> None:
+    if np.abs(T[:, 3, :] - [0.0, 0.0, 0.0, 1.0]).max(initial=0.0) > 1e-12:
+        raise ValueError(f"{what}: the last row of an affine transform must be [0, 0, 0, 1]")
+
+
+def _geometry_dim(sc) -> int:
+    """3 for solids (tet meshes and closed surfaces), 2 for shells, 1 for rods."""
+    is_codim = "is_codim" in sc.meta and int(sc.meta["is_codim"]) == 1
+    return int(sc.dim) if is_codim else 3
+
+
+class World:
+    """The simulation of a Scene: state, stepping, kinematic drives, diagnostics.
+
+    The state lives in C++; every accessor returns NumPy arrays (copies). Bodies are numbered
+    as in the scene (geometry by geometry, instance by instance).
+
+    Args:
+        scene: the scene; each geometry's attributes are read now, and its meta
+            ``dof_offset`` / ``dof_count`` are filled.
+
+    Raises:
+        ValueError: a geometry without constitution, non-finite transforms or velocities,
+            a singular mass matrix, a bad setting, an empty scene.
+    """
+
+    def __init__(self, scene: Scene) -> None:
+        if not isinstance(scene, Scene):
+            raise TypeError(f"World expects a Scene, got {type(scene).__name__}")
+        if scene.num_bodies == 0:
+            raise ValueError("the scene has no bodies: add geometries with scene.add(sc)")
+        self._scene = scene
+        self._handles = scene.handles
+        settings = scene.settings.to_core()
+        data = _core.SceneData()
+        data.dt = float(scene.dt)
+        data.gravity = scene.gravity
+        for h in self._handles:
+            self._add_geometry(data, h)
+        self._core = _core.World(data, settings)
+        self._core.set_history_limit(int(scene.settings.history_limit))
+        self._schedules: dict[int, Schedule] = {}
+        for h in self._handles:
+            h.sc.meta["dof_offset"] = np.int32(12 * h.start)
+            h.sc.meta["dof_count"] = np.int32(12 * len(h))
+
+    @staticmethod
+    def _add_geometry(data: _core.SceneData, h: BodyHandle) -> None:
+        sc = h.sc
+        where = f"geometry {h.geometry}"
+        if "constitution_uid" not in sc.meta:
+            raise ValueError(f"{where} has no constitution")
+        if sc.instance_count != len(h):
+            raise ValueError(
+                f"{where} has {sc.instance_count} instances but had {len(h)} when added; "
+                "build a new Scene after changing the instance count"
+            )
+        T = _as_transforms(sc.transforms, len(h), f"{where}: transforms")
+        _check_bottom_row(T, f"{where}: transforms")
+        V = _as_transforms(sc.instances["velocity"], len(h), f"{where}: velocity")
+        kappa = np.asarray(sc.instances["kappa"], dtype=np.float64)
+        if not (np.isfinite(kappa).all() and (kappa > 0).all()):
+            raise ValueError(f"{where}: kappa must be positive and finite")
+        dm = _dyadic_of(sc)
+        n_vertices = len(sc.positions)
+        thickness = (
+            np.asarray(sc.vertices["thickness"], dtype=np.float64)
+            if "thickness" in sc.vertices
+            else np.zeros(n_vertices)
+        )
+        g = data.add_geometry(
+            np.ascontiguousarray(sc.positions, dtype=np.float64),
+            np.ascontiguousarray(sc.triangles, dtype=np.int32).reshape(-1, 3),
+            np.ascontiguousarray(sc.edges, dtype=np.int32).reshape(-1, 2),
+            thickness,
+            int(sc.meta["self_collision"]) if "self_collision" in sc.meta else 0,
+            _geometry_dim(sc),
+        )
+        flags = {
+            key: np.ascontiguousarray(sc.instances[key], dtype=np.int32)
+            for key in ("is_fixed", "is_dynamic", "external_kinetic")
+        }
+        data.add_bodies(
+            g,
+            transforms_to_q(T),
+            transforms_to_q(V),
+            dm.abd_mass,
+            dm.abd_mass_x_bar,
+            dm.abd_mass_x_bar_x_bar,
+            kappa,
+            float(sc.meta["volume"]),
+            int(sc.meta["constitution_uid"]),
+            flags["is_fixed"],
+            flags["is_dynamic"],
+            flags["external_kinetic"],
+        )
+
+    # -- stepping -------------------------------------------------------------------------
+    def step(self, n: int = 1, progress: bool = False) -> StepDiagnostics:
+        """Advance ``n`` time steps; returns the last step's diagnostics.
+
+        Args:
+            n: number of steps (>= 1).
+            progress: show a tqdm progress bar.
+
+        Raises:
+            SolverError: a step failed (Newton, line search, singular system); the state is
+                that at the start of the failed step.
+        """
+        if int(n) != n or n < 1:
+            raise ValueError(f"step count must be a positive integer, got {n!r}")
+        n = int(n)
+        bar = None
+        if progress:
+            from tqdm.auto import tqdm
+
+            bar = tqdm(total=n, unit="step")
+        try:
+            # Without schedules the steps run in C++ in chunks (chunks only feed the bar).
+            chunk = 1 if self._schedules else (max(1, n // 100) if bar else n)
+            done = 0
+            while done < n:
+                k = min(chunk, n - done)
+                if self._schedules:
+                    self._apply_schedules()
+                self._core.step(k)
+                done += k
+                if bar is not None:
+                    bar.update(k)
+        finally:
+            if bar is not None:
+                bar.close()
+        return self.diagnostics
+
+    def _apply_schedules(self) -> None:
+        t_end = self._core.next_time
+        bodies = np.fromiter(self._schedules, dtype=np.int32, count=len(self._schedules))
+        T = np.stack([np.asarray(f(t_end), dtype=np.float64) for f in self._schedules.values()])
+        self.set_kinematic_targets(bodies, T)
+
+    # -- state ----------------------------------------------------------------------------
+    @property
+    def scene(self) -> Scene:
+        return self._scene
+
+    @property
+    def core(self) -> _core.World:
+        """The C++ world (``add_term``, raw q access, ...)."""
+        return self._core
+
+    @property
+    def num_bodies(self) -> int:
+        return self._core.num_bodies
+
+    @property
+    def time(self) -> float:
+        """Simulated time (s)."""
+        return self._core.time
+
+    @property
+    def step_count(self) -> int:
+        return self._core.step_count
+
+    @property
+    def q(self) -> np.ndarray:
+        """State (n_bodies, 12): ``[p, a1, a2, a3]`` per body (a_i the rows of A)."""
+        return np.asarray(self._core.q)
+
+    @property
+    def q_dot(self) -> np.ndarray:
+        """Velocity (n_bodies, 12)."""
+        return np.asarray(self._core.q_dot)
+
+    def transforms(self) -> np.ndarray:
+        """Body transforms [[A, p], [0, 1]], (n_bodies, 4, 4)."""
+        return q_to_transforms(self._core.q)
+
+    def velocities(self) -> np.ndarray:
+        """Time derivatives of the transforms dT/dt, (n_bodies, 4, 4) (bottom row zero)."""
+        return q_to_transforms(self._core.q_dot, homogeneous=False)
+
+    def vertices(self, handle: BodyHandle) -> np.ndarray:
+        """World positions x = A x̄ + p of a geometry's vertices, (n_instances, nv, 3)."""
+        q = self.q[handle.start : handle.stop]
+        A = q[:, 3:].reshape(-1, 3, 3)
+        return np.einsum("kij,vj->kvi", A, handle.sc.positions) + q[:, None, :3]
+
+    def set_state(
+        self, transforms: np.ndarray | None = None, velocities: np.ndarray | None = None
+    ) -> None:
+        """Replace transforms and/or velocities (n_bodies, 4, 4); None keeps the current one.
+
+        BDF2 restarts with a BDF1 step. Raises ValueError for NaN/inf or wrong shapes.
+        """
+        n = self.num_bodies
+        q, q_dot = self.q, self.q_dot
+        if transforms is not None:
+            T = _as_transforms(transforms, n, "transforms")
+            _check_bottom_row(T, "transforms")
+            q = transforms_to_q(T)
+        if velocities is not None:
+            q_dot = transforms_to_q(_as_transforms(velocities, n, "velocities"))
+        self._core.set_state(q, q_dot)
+
+    def sync(self) -> None:
+        """Write the state into each geometry's ``transforms`` and ``instances["velocity"]``."""
+        T, V = self.transforms(), self.velocities()
+        for h in self._handles:
+            h.sc.transforms = T[h.start : h.stop]
+            h.sc.instances["velocity"] = V[h.start : h.stop]
+
+    # -- kinematic (scripted) bodies ------------------------------------------------------
+    def set_kinematic_target(self, body: int, transform: np.ndarray) -> None:
+        """Drive ``body`` kinematically: its transform at the end of the next step.
+
+        The body is held at the target during the solve (it pushes, nothing pushes it) and
+        its velocity follows from the motion. Without a new target it rests where it is.
+        """
+        T = _as_transforms(transform, 1, "kinematic target")
+        _check_bottom_row(T, "kinematic target")
+        self._core.set_kinematic_target(int(body), transforms_to_q(T)[0])
+
+    def set_kinematic_targets(
+        self, bodies: Sequence[int] | np.ndarray, transforms: np.ndarray
+    ) -> None:
+        """Vectorised ``set_kinematic_target``: bodies (k,), transforms (k, 4, 4)."""
+        b = np.asarray(bodies, dtype=np.int32).reshape(-1)
+        T = _as_transforms(transforms, len(b), "kinematic targets")
+        _check_bottom_row(T, "kinematic targets")
+        self._core.set_kinematic_targets(b, transforms_to_q(T))
+
+    def set_kinematic_schedule(self, body: int, schedule: Schedule) -> None:
+        """Drive ``body`` by ``schedule(t) -> 4x4``, evaluated at the end of every step."""
+        if not callable(schedule):
+            raise TypeError("schedule must be callable: t -> (4, 4) transform")
+        if not 0 <= int(body) < self.num_bodies:
+            raise IndexError(f"body index {body} out of range [0, {self.num_bodies})")
+        self._schedules[int(body)] = schedule
+
+    def release_kinematic(self, body: int) -> None:
+        """Return a kinematic body to the dynamics (keeping its velocity)."""
+        self._schedules.pop(int(body), None)
+        self._core.release_kinematic(int(body))
+
+    def is_kinematic(self, body: int) -> bool:
+        return bool(self._core.is_kinematic(int(body)))
+
+    # -- energy terms and diagnostics ------------------------------------------------------
+    def add_term(self, term: _core.EnergyTerm) -> None:
+        """Add a potential (contact, joints, a ``_core.PythonEnergyTerm`` subclass...) to Π."""
+        self._core.add_term(term)
+
+    @property
+    def diagnostics(self) -> StepDiagnostics | None:
+        """Diagnostics of the last step (None before the first)."""
+        if self._core.step_count == 0:
+            return None
+        return StepDiagnostics.from_core(self._core.diagnostics)
+
+    @property
+    def history(self) -> list[StepDiagnostics]:
+        """Diagnostics of the last ``history_limit`` steps, oldest first."""
+        return [StepDiagnostics.from_core(d) for d in self._core.history]
+
+    def __repr__(self) -> str:
+        return f"<World bodies={self.num_bodies} t={self.time:.6g} steps={self.step_count}>"

@@ -1,0 +1,96 @@
+"""Shared helpers for the contact tests: the compiled module and finite differences."""
+
+import numpy as np
+import pytest
+
+from abdsim._native import _core
+
+
+class FiniteDifferences:
+    """Central differences, for checking analytic gradients and Hessians."""
+
+    @staticmethod
+    def gradient(f, x, h=1e-6):
+        x = np.asarray(x, dtype=float)
+        g = np.zeros_like(x)
+        for i in range(x.size):
+            e = np.zeros_like(x)
+            e[i] = h
+            g[i] = (f(x + e) - f(x - e)) / (2 * h)
+        return g
+
+    @staticmethod
+    def jacobian(g, x, h=1e-6):
+        x = np.asarray(x, dtype=float)
+        cols = []
+        for i in range(x.size):
+            e = np.zeros_like(x)
+            e[i] = h
+            cols.append((np.asarray(g(x + e)) - np.asarray(g(x - e))) / (2 * h))
+        return np.stack(cols, axis=-1)
+
+
+@pytest.fixture(scope="session")
+def contact():
+    return _core.contact
+
+
+@pytest.fixture(scope="session")
+def fd():
+    return FiniteDifferences
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20240601)
+
+
+class Scenes:
+    """Small scenes of affine bodies for the contact-term tests."""
+
+    @staticmethod
+    def box(extents=(1.0, 1.0, 1.0)):
+        import trimesh
+
+        mesh = trimesh.creation.box(extents=extents)
+        return np.asarray(mesh.vertices, float), np.asarray(mesh.faces, np.int32)
+
+    @staticmethod
+    def q_of(p, A=None):
+        A = np.eye(3) if A is None else np.asarray(A, float)
+        return np.concatenate([np.asarray(p, float), A[0], A[1], A[2]])
+
+    @staticmethod
+    def rotation(rng, angle=None):
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        angle = rng.uniform(0, 2 * np.pi) if angle is None else angle
+        K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+        return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
+
+    @staticmethod
+    def term(geometries, body_geometry, q, is_fixed=None, mass=None, dt=0.01, **settings):
+        """geometries: list of dicts with V, F (optional), E (optional), r (optional), self."""
+        s = _core.contact.ContactSettings()
+        for key, value in settings.items():
+            setattr(s, key, value)
+        empty_f = np.zeros((0, 3), np.int32)
+        empty_e = np.zeros((0, 2), np.int32)
+        return _core.contact.IpcContactTerm(
+            [g["V"] for g in geometries],
+            [g.get("F", empty_f) for g in geometries],
+            [g.get("E", empty_e) for g in geometries],
+            [g.get("r", np.zeros(len(g["V"]))) for g in geometries],
+            [g.get("self", 0) for g in geometries],
+            list(body_geometry),
+            np.asarray(q, float),
+            is_fixed=is_fixed,
+            mass=mass,
+            settings=s,
+            dt=dt,
+        )
+
+
+@pytest.fixture(scope="session")
+def scenes():
+    return Scenes

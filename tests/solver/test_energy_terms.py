@@ -1,0 +1,288 @@
+"""Extra energy terms through the EnergyTerm interface (here written in Python): coupled
+Newton systems (sparse direct and PCG), the CCD step bound (max_step) in the line search,
+and the interface's contract checks."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import abdsim
+from abdsim._native import _core
+
+H = 0.01
+
+
+def jacobian(x_bar: np.ndarray) -> np.ndarray:
+    J = np.zeros((3, 12))
+    J[:, :3] = np.eye(3)
+    for k in range(3):
+        J[k, 3 + 3 * k : 6 + 3 * k] = x_bar
+    return J
+
+
+class Spring(_core.PythonEnergyTerm):
+    """Zero-length spring k/2 |x_a - x_b|² between material points of bodies a and b."""
+
+    def __init__(self, a, b, x_bar_a, x_bar_b, k):
+        super().__init__()
+        self.a, self.b, self.k = a, b, k
+        self.Ja, self.Jb = jacobian(np.asarray(x_bar_a)), jacobian(np.asarray(x_bar_b))
+
+    def name(self):
+        return "spring"
+
+    def _d(self, q):
+        return (
+            self.Ja @ q[12 * self.a : 12 * self.a + 12]
+            - self.Jb @ q[12 * self.b : 12 * self.b + 12]
+        )
+
+    def value(self, q):
+        d = self._d(q)
+        return 0.5 * self.k * d @ d
+
+    def gradient(self, q):
+        g = np.zeros_like(q)
+        d = self._d(q)
+        g[12 * self.a : 12 * self.a + 12] += self.k * self.Ja.T @ d
+        g[12 * self.b : 12 * self.b + 12] -= self.k * self.Jb.T @ d
+        return g
+
+    def hessian(self, q):
+        Ja, Jb, k = self.Ja, self.Jb, self.k
+        return [
+            (self.a, self.a, k * Ja.T @ Ja),
+            (self.b, self.b, k * Jb.T @ Jb),
+            (self.a, self.b, -k * Ja.T @ Jb),
+            (self.b, self.a, -k * Jb.T @ Ja),
+        ]
+
+
+class Floor(_core.PythonEnergyTerm):
+    """IPC-style barrier between the vertices of one body and the plane z = 0, with its
+    continuous collision detection as max_step."""
+
+    def __init__(self, body, x_bar, d_hat=0.01, stiffness=1e4):
+        super().__init__()
+        self.body, self.x_bar, self.d_hat, self.kappa = body, x_bar, d_hat, stiffness
+
+    def name(self):
+        return "floor"
+
+    def _z(self, q):  # vertex heights and their gradients dz/dq (rows)
+        qb = q[12 * self.body : 12 * self.body + 12]
+        z = self.x_bar @ qb[9:12] + qb[2]
+        dz = np.zeros((len(z), 12))
+        dz[:, 2] = 1.0
+        dz[:, 9:12] = self.x_bar
+        return z, dz
+
+    def value(self, q):
+        z, _ = self._z(q)
+        if (z <= 0).any():
+            return np.inf
+        a = z[z < self.d_hat]
+        return float(np.sum(-self.kappa * (a - self.d_hat) ** 2 * np.log(a / self.d_hat)))
+
+    def gradient(self, q):
+        z, dz = self._z(q)
+        active = z < self.d_hat
+        zz, d = z[active], z[active] - self.d_hat
+        db = -self.kappa * (2 * d * np.log(zz / self.d_hat) + d * d / zz)
+        g = np.zeros_like(q)
+        g[12 * self.body : 12 * self.body + 12] = db @ dz[active]
+        return g
+
+    def hessian(self, q):
+        z, dz = self._z(q)
+        active = z < self.d_hat
+        zz, d = z[active], z[active] - self.d_hat
+        ddb = -self.kappa * (2 * np.log(zz / self.d_hat) + 4 * d / zz - d * d / (zz * zz))
+        return [(self.body, self.body, (dz[active].T * ddb) @ dz[active])]
+
+    def max_step(self, q, dq):
+        z, dz = self._z(q)
+        rate = dz @ dq[12 * self.body : 12 * self.body + 12]
+        falling = rate < 0
+        return float(min(1.0, np.min(z[falling] / -rate[falling], initial=np.inf)))
+
+
+def two_boxes(tools, **settings):
+    sc = tools.make_box(2)
+    T = np.tile(np.eye(4), (2, 1, 1))
+    T[1, 0, 3] = 1.0
+    sc.transforms = T
+    world = tools.world_of(sc, dt=H, gravity=(0, 0, 0), **settings)
+    world.add_term(Spring(0, 1, np.zeros(3), np.zeros(3), k=2e3))
+    return sc, world
+
+
+def test_spring_matches_the_bdf1_recurrence(tools):
+    """Spring between the centres: the relative coordinate r = x0 - x1 of two equal masses
+    follows v' = v - h (2k/m) r', r' = r + h v' exactly; A stays the identity."""
+    sc, world = two_boxes(tools)
+    m, k = float(sc.meta["abd_mass"]), 2e3
+    r, v = -1.0, 0.0
+    for _ in range(30):
+        world.step()
+        v = (v - H * 2 * k / m * r) / (1 + H * H * 2 * k / m)
+        r = r + H * v
+        x = world.transforms()[:, 0, 3]
+        assert x[0] - x[1] == pytest.approx(r, abs=1e-9)
+        assert x[0] + x[1] == pytest.approx(1.0, abs=1e-12)  # centre of mass at rest
+    np.testing.assert_allclose(
+        world.transforms()[:, :3, :3], np.tile(np.eye(3), (2, 1, 1)), atol=1e-12
+    )
+    d = world.diagnostics
+    assert d.linear_solver == "direct"
+    assert set(d.energies) == {"kinetic", "shape", "spring", "total"}
+    assert d.energies["spring"] == pytest.approx(0.5 * k * r * r, rel=1e-6)
+
+
+def test_direct_and_pcg_agree(tools, rng):
+    results = {}
+    V = np.stack(
+        [tools.rigid_velocity(np.eye(3), rng.normal(size=3), np.zeros(3)) for _ in range(2)]
+    )
+    for solver in ("direct", "pcg", "auto_pcg"):
+        settings = {"linear_solver": solver} if solver != "auto_pcg" else {"direct_max_dofs": 0}
+        sc, world = two_boxes(tools, **settings)
+        world.add_term(Spring(0, 1, [0.2, 0.1, 0.05], [-0.2, 0.1, -0.05], k=5e3))
+        world.set_state(velocities=V)
+        world.step(20)
+        results[solver] = world.q
+        assert world.diagnostics.linear_solver == ("pcg" if solver != "direct" else "direct")
+        if solver != "direct":
+            assert world.diagnostics.pcg_iterations > 0
+    np.testing.assert_allclose(results["pcg"], results["direct"], atol=1e-8)
+    np.testing.assert_allclose(results["auto_pcg"], results["pcg"], atol=0)
+
+
+def test_internal_spring_conserves_linear_momentum(tools):
+    sc, world = two_boxes(tools)
+    world.add_term(Spring(0, 1, [0.2, 0.1, 0.05], [-0.2, -0.1, 0.05], k=5e3))
+    V = np.zeros((2, 4, 4))
+    V[0] = tools.rigid_velocity(np.eye(3), [0.0, 1.0, 2.0], [0.1, 0.0, 0.0])
+    world.set_state(velocities=V)
+    m, mx = float(sc.meta["abd_mass"]), np.asarray(sc.meta["abd_mass_x_bar"])
+
+    def momentum():
+        V = world.velocities()
+        return (m * V[:, :3, 3] + V[:, :3, :3] @ mx).sum(axis=0)
+
+    P0 = momentum()
+    world.step(30)
+    np.testing.assert_allclose(momentum(), P0, atol=1e-9)
+
+
+def box_above_floor(tools, height: float):
+    """A 0.2 x 0.2 x 0.1 box centred at `height` above a Floor barrier."""
+    sc = tools.make_box(extents=(0.2, 0.2, 0.1))
+    T = np.eye(4)
+    T[2, 3] = height
+    sc.transforms = T[None]
+    world = tools.world_of(sc, dt=H)
+    world.add_term(Floor(0, np.asarray(sc.positions)))
+    return world, T
+
+
+def test_barrier_floor_never_crossed(tools):
+    """A box dropped on a barrier floor: the CCD bound keeps every vertex above the plane at
+    every step, and the box comes to rest within the barrier's range."""
+    world, _ = box_above_floor(tools, 0.1)  # lowest vertices 5 cm above the floor
+    handle = world.scene.handles[0]
+    limited = 0
+    for _ in range(80):
+        d = world.step()
+        assert world.vertices(handle)[..., 2].min() > 0
+        limited += d.min_term_max_step < 1
+    assert limited > 0  # the step bound was active at least once
+    z = world.vertices(handle)[0, :, 2]
+    assert z.min() < 0.01  # resting in the barrier's range
+    assert np.abs(world.velocities()).max() < 1e-2
+    assert world.diagnostics.energies["floor"] > 0
+
+
+class Asymmetric(Spring):
+    def hessian(self, q):
+        return super().hessian(q)[:3]  # forgets the (b, a) block
+
+
+def test_non_symmetric_term_is_reported(tools):
+    sc = tools.make_box(2)
+    world = tools.world_of(sc, gravity=(0, 0, 0))
+    world.add_term(Asymmetric(0, 1, np.zeros(3), [1.0, 0, 0], k=1e3))
+    with pytest.raises(abdsim.SolverError, match="not symmetric"):
+        world.step()
+
+
+def test_shape_energy_term_matches_the_energy_functions(tools, rng):
+    """ShapeEnergyTerm (the solver's per-body evaluation) against the foundation's
+    shape_energy, and its PSD projection."""
+    sc = tools.make_box(2)
+    sc2 = tools.make_box(1, constitution="ARAP", kappa=1e9)
+    world = tools.world_of(sc, sc2)
+    term = _core.ShapeEnergyTerm(world.core.scene, True)
+    q = np.concatenate(
+        [
+            np.r_[rng.normal(size=3), (np.eye(3) + 0.2 * rng.normal(size=(3, 3))).ravel()]
+            for _ in range(3)
+        ]
+    )
+    volume = [float(sc.meta["volume"])] * 2 + [float(sc2.meta["volume"])]
+    uid, kappa = [1, 1, 2], [1e8, 1e8, 1e9]
+    g = term.gradient(q)
+    blocks = term.hessian(q)
+    total = 0.0
+    for b in range(3):
+        e, g_ref, H_ref = _core.shape_energy(
+            uid[b], q[12 * b : 12 * b + 12], kappa[b], volume[b], False
+        )
+        total += e
+        np.testing.assert_allclose(g[12 * b : 12 * b + 12], g_ref, rtol=1e-12, atol=1e-6)
+        row, col, Hb = blocks[b]
+        assert row == col == b
+        assert np.linalg.eigvalsh(Hb).min() > -1e-9 * np.abs(Hb).max()
+        if uid[b] == 2:  # analytic projection: identical to the foundation's
+            _, _, H_psd = _core.shape_energy(2, q[12 * b : 12 * b + 12], kappa[b], volume[b], True)
+            np.testing.assert_allclose(Hb, H_psd, rtol=1e-12, atol=1e-6)
+    assert term.value(q) == pytest.approx(total, rel=1e-12)
+    # Stretched (AAᵀ - I PSD): the OrthoPotential Hessian needs no projection at all.
+    q_stretched = np.r_[np.zeros(3), (1.05 * np.eye(3)).ravel()]
+    q3 = np.concatenate([q_stretched] * 3)
+    _, _, H_exact = _core.shape_energy(1, q_stretched, 1e8, volume[0], False)
+    np.testing.assert_allclose(term.hessian(q3)[0][2], H_exact, rtol=1e-12, atol=1e-6)
+
+
+def test_kinematic_motion_into_a_bound_is_refused(tools):
+    """A scripted body cannot be moved through what an energy term's max_step forbids."""
+    world, T = box_above_floor(tools, 0.06)  # lowest vertices 1 cm above the floor
+    down = T.copy()
+    down[2, 3] = 0.055
+    world.set_kinematic_target(0, down)  # 5 mm down: allowed
+    world.step()
+    assert world.transforms()[0, 2, 3] == 0.055
+    down[2, 3] = 0.03  # through the floor
+    world.set_kinematic_target(0, down)
+    with pytest.raises(abdsim.SolverError, match="kinematic"):
+        world.step()
+    assert world.transforms()[0, 2, 3] == 0.055
+
+
+def test_external_kinetic_body_is_driven_by_its_energy_alone(tools):
+    """external_kinetic = 1: no inertia (and so no gravity through q̃); three zero-length
+    springs to a fixed twin pull it onto the twin within one step."""
+    sc = tools.make_box(2)
+    T = np.tile(np.eye(4), (2, 1, 1))
+    T[0, :3, 3] = [0.1, -0.05, 0.02]
+    sc.transforms = T
+    sc.instances["external_kinetic"] = np.array([1, 0])
+    sc.instances["is_fixed"] = np.array([0, 1])
+    world = tools.world_of(sc, dt=H, newton_tol_translation=1e-6, newton_tol_affine=1e-6)
+    for x_bar in ([0.2, 0.0, 0.0], [0.0, 0.1, 0.0], [0.0, 0.0, 0.05]):
+        world.add_term(Spring(0, 1, x_bar, x_bar, k=1e4))
+    world.step()
+    np.testing.assert_allclose(world.transforms()[0], np.eye(4), atol=1e-8)
+    assert world.diagnostics.linear_solver == "block_diagonal"  # couplings to a fixed body drop
+    np.testing.assert_allclose(world.velocities()[0, :3, 3], -T[0, :3, 3] / H, atol=1e-6)
