@@ -539,6 +539,7 @@ def step_and_log(
     *,
     driver: Any = None,
     log_every: int = 1,
+    progress: bool = False,
     **logger_options: Any,
 ) -> Any:
     """Step ``world`` ``n`` times, logging to ``log``; returns the last step's diagnostics.
@@ -547,18 +548,30 @@ def step_and_log(
     state first) that stays attached to this World: later calls with the same path continue
     the same file; :func:`close_logs` (or interpreter exit) finishes it. ``driver`` sets the
     kinematic targets before each step; every ``log_every``-th step (and the last) is logged.
+    ``world.step(n, log=...)`` calls this.
     """
     from abdsim.bridges import _world_adapter as adapter
 
     if int(n) != n or int(n) < 1 or int(log_every) < 1:
         raise ValueError(f"need n >= 1 and log_every >= 1, got n={n}, log_every={log_every}")
     logger = _logger_for(world, log, **logger_options)
-    for k in range(int(n)):
-        if driver is not None:
-            driver.apply(world)
-        adapter.world_step(world)
-        if (k + 1) % int(log_every) == 0 or k + 1 == int(n):
-            logger.log_world(world)
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=int(n), unit="step")
+    try:
+        for k in range(int(n)):
+            if driver is not None:
+                driver.apply(world)
+            adapter.world_step(world)
+            if (k + 1) % int(log_every) == 0 or k + 1 == int(n):
+                logger.log_world(world)
+            if bar is not None:
+                bar.update(1)
+    finally:
+        if bar is not None:
+            bar.close()
     return adapter.world_diagnostics(world)
 
 

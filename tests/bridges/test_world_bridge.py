@@ -238,3 +238,21 @@ def test_real_world_kinematic_links_follow_the_joint_trajectory_exactly(tmp_path
     for k in range(11):
         pin.forwardKinematics(res.model, data, q(0.01 * k) if k else res.q)
         np.testing.assert_allclose(log.transforms[k, 2], data.oMi[2].homogeneous, atol=1e-12)
+
+
+@needs_world
+def test_world_step_with_log_continues_one_file(tmp_path, scenes_dir):
+    res = load_mjcf(scenes_dir / "free_bodies.xml")
+    world = res.make_world()
+    path = tmp_path / "steps.mcap"
+    world.step(4, log=path)
+    T4 = world.transforms()
+    diag = world.step(3, log=str(path))
+    assert diag.step == 6 and world.step_count == 7
+    close_logs(world)
+    data = read_log(path)
+    assert not data.truncated and data.names == res.names
+    np.testing.assert_array_equal(data.steps, np.arange(8))
+    np.testing.assert_array_equal(data.transforms[4], T4)
+    np.testing.assert_array_equal(data.transforms[-1], world.transforms())
+    np.testing.assert_array_equal(data.diagnostics["step"], np.arange(7))
