@@ -88,6 +88,8 @@ def write_report(path: Path, metrics: dict, checks: list[Check], plots: dict[str
         f"Pinocchio free-flight reference (RK4 on SE(3)), {s['duration']:g} s simulated.",
         "",
     ]
+    for note in metrics.get("notes", []):
+        lines += [f"> Note: {note}", ""]
     if failed:
         lines += [
             "## Failed checks",
