@@ -175,8 +175,9 @@ def validate(
         "contact": contact,
         "timing": timing,
         "files": {k: v for k, v in plot_files.items()},
-        "notes": [] if has_contact else [
-            "this abdsim build has no contact: the contact phase was not compared"],
+        "notes": []
+        if has_contact
+        else ["this abdsim build has no contact: the contact phase was not compared"],
     }
     files = {k: out_dir / v for k, v in plot_files.items()}
     files["metrics"] = write_metrics(out_dir / "metrics.json", metrics)
