@@ -96,9 +96,12 @@ def run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     t = res.metrics["timing"]
-    print(
-        f"abdsim {t['simulators']['abdsim']['steps_per_s']:.0f} steps/s, MuJoCo "
-        f"{t['simulators']['mujoco']['steps_per_s']:.0f} steps/s"
-    )
+    if t:
+        print(
+            f"abdsim {t['simulators']['abdsim']['steps_per_s']:.0f} steps/s, MuJoCo "
+            f"{t['simulators']['mujoco']['steps_per_s']:.0f} steps/s"
+        )
+    for note in res.metrics.get("notes", []):
+        print(f"note: {note}")
     print(f"report: {res.report}")
     return 0 if res.passed else 1

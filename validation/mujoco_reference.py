@@ -33,6 +33,19 @@ def free_bodies(model: mujoco.MjModel) -> list[int]:
     return out
 
 
+def initial_data(model: mujoco.MjModel, keyframe: int | None) -> mujoco.MjData:
+    """MjData at the keyframe (if the model has it) with kinematics computed."""
+    data = mujoco.MjData(model)
+    if keyframe is not None and model.nkey > keyframe:
+        mujoco.mj_resetDataKeyframe(model, data, keyframe)
+    mujoco.mj_forward(model, data)
+    return data
+
+
+def body_names(model: mujoco.MjModel, bodies: list[int]) -> list[str]:
+    return [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) for b in bodies]
+
+
 def body_state(model: mujoco.MjModel, data: mujoco.MjData, bodies: list[int]) -> dict:
     """COM, rotation, COM velocity, world angular velocity and momenta of free bodies."""
     com = data.xipos[bodies].copy()
@@ -73,12 +86,9 @@ def run_mujoco(
     model.opt.timestep = dt
     model.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{integrator.upper()}")
     model.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_ENERGY
-    data = mujoco.MjData(model)
-    if keyframe is not None and model.nkey > keyframe:
-        mujoco.mj_resetDataKeyframe(model, data, keyframe)
-    mujoco.mj_forward(model, data)
+    data = initial_data(model, keyframe)
     bodies = free_bodies(model)
-    names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) for b in bodies]
+    names = body_names(model, bodies)
     gravity = model.opt.gravity.copy()
     rec = Recorder("mujoco", names)
     n_steps = int(round(duration / dt))

@@ -13,7 +13,7 @@ import mujoco
 import numpy as np
 import pinocchio as pin
 
-from abdsim.validation.mujoco_reference import free_bodies, load_model
+from abdsim.validation.mujoco_reference import body_names, free_bodies, initial_data, load_model
 from abdsim.validation.trajectory import Recorder, Trajectory, rigid_energy
 
 
@@ -110,12 +110,9 @@ def run_pinocchio_free_flight(
     ``body_inertia``), expressed in each body frame as Pinocchio expects.
     """
     mj_model = load_model(path)
-    mj_data = mujoco.MjData(mj_model)
-    if keyframe is not None and mj_model.nkey > keyframe:
-        mujoco.mj_resetDataKeyframe(mj_model, mj_data, keyframe)
-    mujoco.mj_forward(mj_model, mj_data)
+    mj_data = initial_data(mj_model, keyframe)
     bodies = free_bodies(mj_model)
-    names = [mujoco.mj_id2name(mj_model, mujoco.mjtObj.mjOBJ_BODY, b) for b in bodies]
+    names = body_names(mj_model, bodies)
     inertias = []
     for b in bodies:
         Ri = np.zeros(9)

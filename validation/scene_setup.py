@@ -99,7 +99,7 @@ def build_abdsim(
     """Load ``path`` into an abdsim World (bodies with the source's exact inertials)."""
     import abdsim
     from abdsim.bridges import load_mjcf
-    from abdsim.validation.mujoco_reference import free_bodies, load_model
+    from abdsim.validation.mujoco_reference import body_names, free_bodies, load_model
 
     if kind != "mjcf":
         raise ValueError(
@@ -108,9 +108,7 @@ def build_abdsim(
             "validated dynamically for now"
         )
     model = load_model(path)
-    import mujoco
-
-    mj_names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) for b in free_bodies(model)]
+    mj_names = body_names(model, free_bodies(model))
     if not mj_names:
         raise ValueError(f"{path}: the scene has nothing dynamic (no body with a free joint)")
     with warnings.catch_warnings():

@@ -134,57 +134,66 @@ class AffineBodyConstitution:
 class _CodimConstitution(AffineBodyConstitution):
     """Shared parts of shells and rods: a per-vertex thickness radius r."""
 
-    def _apply_codim(
-        self, sc: SimplicialComplex, kappa: float, mass_density: float, thickness: float
-    ) -> np.ndarray:
+    def apply_to(  # type: ignore[override]
+        self,
+        sc: SimplicialComplex,
+        kappa: float,
+        mass_density: float = 1e3,
+        thickness: float = 0.01,
+    ) -> None:
+        """Set the spec's attributes plus ``is_codim = 1`` and vertex ``thickness = r``.
+
+        Raises:
+            ValueError: the wrong kind of mesh, degenerate simplices, non-positive κ,
+                density or thickness.
+        """
+        self._check_mesh(sc)
         kappa = self._check_kappa(kappa)
         rho = _positive_finite("mass_density", mass_density)
         r = _positive_finite("thickness", thickness)
         sc.vertices.create("thickness", np.float64(r))
         sc.meta["is_codim"] = np.int32(1)
-        return np.asarray(sc.vertices["thickness"]), kappa, rho
+        dm, volume = self._mass(sc, np.asarray(sc.vertices["thickness"]), rho)
+        self._write(sc, kappa, rho, dm, volume)
+
+    def _check_mesh(self, sc: SimplicialComplex) -> None:
+        raise NotImplementedError
+
+    def _mass(self, sc: SimplicialComplex, r: np.ndarray, rho: float) -> tuple[DyadicMass, float]:
+        raise NotImplementedError
 
 
 class AffineBodyShell(_CodimConstitution):
     """Codim-2D affine body on a triangle mesh: a slab of full thickness 2r (v̄ = Σ Aᵢ·2r)."""
 
-    def apply_to(  # type: ignore[override]
-        self,
-        sc: SimplicialComplex,
-        kappa: float,
-        mass_density: float = 1e3,
-        thickness: float = 0.01,
-    ) -> None:
-        """Set the spec's attributes plus ``is_codim = 1`` and vertex ``thickness = r``."""
+    def _check_mesh(self, sc: SimplicialComplex) -> None:
         if len(sc.triangles) == 0:
             raise ValueError("AffineBodyShell needs a triangle mesh")
-        r, kappa, rho = self._apply_codim(sc, kappa, mass_density, thickness)
         check.check_nondegenerate_triangles(sc.positions, sc.triangles)
+
+    def _mass(self, sc: SimplicialComplex, r: np.ndarray, rho: float) -> tuple[DyadicMass, float]:
         dm = DyadicMass(*_core.shell_mass(sc.positions, sc.triangles, r, rho))
         areas = check.triangle_areas(sc.positions, sc.triangles)
-        r_face = r[sc.triangles].mean(axis=1)
-        self._write(sc, kappa, rho, dm, float(np.sum(areas * 2.0 * r_face)))
+        return dm, float(np.sum(areas * 2.0 * r[sc.triangles].mean(axis=1)))
 
 
 class AffineBodyRod(_CodimConstitution):
     """Codim-1D affine body on an edge mesh: a cylinder of radius r (v̄ = Σ Lᵢ·πr²)."""
 
-    def apply_to(  # type: ignore[override]
-        self,
-        sc: SimplicialComplex,
-        kappa: float,
-        mass_density: float = 1e3,
-        thickness: float = 0.01,
-    ) -> None:
-        """Set the spec's attributes plus ``is_codim = 1`` and vertex ``thickness = r``."""
+    def _check_mesh(self, sc: SimplicialComplex) -> None:
         if len(sc.edges) == 0:
             raise ValueError("AffineBodyRod needs an edge mesh")
-        r, kappa, rho = self._apply_codim(sc, kappa, mass_density, thickness)
-        p = sc.positions[sc.edges]
-        lengths = np.linalg.norm(p[:, 1] - p[:, 0], axis=1)
+        lengths = self._lengths(sc)
         scale = max(float(np.ptp(sc.positions, axis=0).max()), 1e-300)
         if (lengths <= 1e-14 * scale).any():
             raise ValueError(f"edge {int(np.argmax(lengths <= 1e-14 * scale))} has zero length")
+
+    @staticmethod
+    def _lengths(sc: SimplicialComplex) -> np.ndarray:
+        p = sc.positions[sc.edges]
+        return np.linalg.norm(p[:, 1] - p[:, 0], axis=1)
+
+    def _mass(self, sc: SimplicialComplex, r: np.ndarray, rho: float) -> tuple[DyadicMass, float]:
         dm = DyadicMass(*_core.rod_mass(sc.positions, sc.edges, r, rho))
         r_edge = r[sc.edges].mean(axis=1)
-        self._write(sc, kappa, rho, dm, float(np.sum(lengths * np.pi * r_edge**2)))
+        return dm, float(np.sum(self._lengths(sc) * np.pi * r_edge**2))

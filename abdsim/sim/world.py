@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -306,12 +307,16 @@ class World:
         )
 
     # -- stepping -------------------------------------------------------------------------
-    def step(self, n: int = 1, progress: bool = False) -> StepDiagnostics:
+    def step(self, n: int = 1, progress: bool = False, log: Any = None) -> StepDiagnostics:
         """Advance ``n`` time steps; returns the last step's diagnostics.
 
         Args:
             n: number of steps (>= 1).
             progress: show a tqdm progress bar.
+            log: also write every step to an MCAP log (Foxglove): a path, or an
+                ``abdsim.bridges.McapLogger``. The same path on the same World continues one
+                file; ``abdsim.bridges.close_logs(world)`` (or exit) finishes it. See
+                ``abdsim.bridges.step_and_log``.
 
         Raises:
             SolverError: a step failed (Newton, line search, singular system); the state is
@@ -320,6 +325,11 @@ class World:
         if int(n) != n or n < 1:
             raise ValueError(f"step count must be a positive integer, got {n!r}")
         n = int(n)
+        if log is not None:
+            # Imported here: the core never depends on bridges, only this option does.
+            from abdsim.bridges.mcap_log import step_and_log
+
+            return step_and_log(self, n, log, progress=progress)
         bar = None
         if progress:
             from tqdm.auto import tqdm

@@ -1,0 +1,336 @@
+"""MJCF scenes as affine bodies, through MuJoCo.
+
+MuJoCo compiles the file (``mujoco.MjModel.from_xml_path``); abdsim reads the compiled model:
+
+* One affine body per **weld group**: a body with joints plus every descendant welded to it
+  without joints (``body_weldid``). Vertices are in the group root's body frame, the pose is
+  the root's ``xpos/xmat``, and the mass properties are MuJoCo's exactly: ``body_mass``,
+  ``body_ipos`` and ``body_inertia`` (principal moments in the frame ``body_iquat``, w-first)
+  → the full inertia tensor in the body frame (a group of several bodies gets their exact
+  combination). A group whose root has a ``free`` joint is ``dynamic``; one on
+  ``hinge``/``slide``/``ball`` joints is ``kinematic`` (:class:`abdsim.bridges.MjcfDriver`).
+* Every geom fixed to the world (on the world body or on a body welded to it) is its own
+  ``fixed`` body, in the geom's frame. ``plane`` geoms become :class:`Ground` planes.
+* Geom shapes: box, sphere, capsule, cylinder, ellipsoid, mesh. MuJoCo re-centres and
+  rotates meshes into their inertial frame and folds that into ``geom_pos/geom_quat``, so the
+  vertices are ``geom pose × mesh_vert``. Note that MuJoCo collides with a mesh's convex hull
+  while abdsim uses the mesh itself.
+* Geoms that collide with nothing (``contype = conaffinity = 0``, MJCF's visual geoms) are
+  skipped unless ``include_visual=True``.
+* The first keyframe (if any) sets the initial ``qpos``/``qvel``: a body's ``velocity`` is
+  dT/dt from MuJoCo's body velocity (``mj_objectVelocity``; for a free joint that is
+  ``qvel = [v_world, ω_body]``, Ȧ = [ω_world]× A).
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from abdsim.bridges._bodies import (
+    Ground,
+    JointInfo,
+    LoadedBody,
+    LoaderError,
+    LoadResult,
+    Surface,
+    check_file,
+    closed_surface,
+    combine_inertias,
+    make_body,
+    pose_matrix,
+    primitive_surface,
+    quat_wxyz_to_matrix,
+    transform_points,
+    velocity_matrix,
+)
+
+_PRIMITIVES = {"box": 3, "sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3}
+
+
+def load_mjcf(
+    path: str | os.PathLike,
+    kappa: float = 1e8,
+    *,
+    keyframe: int | str | None = 0,
+    constitution: str = "OrthoPotential",
+    include_visual: bool = False,
+    open_mesh: str = "hull",
+    skip_unsupported: bool = False,
+) -> LoadResult:
+    """Load an MJCF scene as affine bodies.
+
+    Args:
+        path: the MJCF (MuJoCo XML) file.
+        kappa: shape stiffness κ of every body (Pa).
+        keyframe: keyframe (index or name) for the initial ``qpos``/``qvel`` when the model
+            has keyframes; None uses ``qpos0`` and zero velocity.
+        constitution: ``"OrthoPotential"`` or ``"ARAP"``.
+        include_visual: also make surfaces of geoms that collide with nothing.
+        open_mesh: a mesh that is not a closed surface: ``"hull"`` (convex hull, with a
+            warning) or ``"error"``.
+        skip_unsupported: skip (with a warning) geoms of unsupported types (hfield, sdf, a
+            plane on a moving body) instead of raising.
+
+    Returns:
+        A :class:`LoadResult` with ``dt = opt.timestep``, ``gravity = opt.gravity``, the
+        ground planes, per-body friction (``geom_friction[:, 0]``) and ``model`` (the
+        ``mujoco.MjModel``).
+
+    Raises:
+        FileNotFoundError: the file, or a mesh file it names, does not exist.
+        LoaderError (a ValueError): MuJoCo rejects the file (its message names the element;
+            this covers malformed XML and non-physical inertias), an unsupported geom, a
+            dynamic body without collision geometry, an unknown keyframe.
+    """
+    import mujoco
+
+    if open_mesh not in ("hull", "error"):
+        raise ValueError(f"open_mesh must be 'hull' or 'error', got {open_mesh!r}")
+    mjcf = check_file(path, "MJCF", (".xml", ".mjcf"))
+    model = _compile(mujoco, mjcf)
+    data = mujoco.MjData(model)
+    if keyframe is not None and model.nkey > 0:
+        mujoco.mj_resetDataKeyframe(model, data, _keyframe_id(mujoco, model, keyframe))
+    mujoco.mj_forward(model, data)
+
+    loader = _MjcfLoader(mujoco, model, data, kappa, constitution, open_mesh, notes=[])
+    bodies, grounds, source_map, joints = loader.run(include_visual, skip_unsupported)
+    for note in loader.notes:
+        warnings.warn(note, stacklevel=2)
+    if not bodies and not grounds:
+        raise LoaderError(f"MJCF {mjcf} has no collision geometry: nothing to simulate")
+    return LoadResult(
+        source=mjcf,
+        format="mjcf",
+        bodies=bodies,
+        dt=float(model.opt.timestep),
+        gravity=np.array(model.opt.gravity, dtype=np.float64),
+        grounds=grounds,
+        joints=joints,
+        model=model,
+        q=np.array(data.qpos),
+        source_map=source_map,
+        notes=loader.notes,
+    )
+
+
+def _compile(mujoco, mjcf: Path):
+    try:
+        return mujoco.MjModel.from_xml_path(str(mjcf))
+    except ValueError as e:
+        message = str(e).strip()
+        lowered = message.lower()
+        if any(k in lowered for k in ("resource not found", "could not open", "error opening")):
+            raise FileNotFoundError(f"MJCF {mjcf}: {message}") from e
+        raise LoaderError(f"MuJoCo could not load MJCF {mjcf}: {message}") from e
+
+
+def _keyframe_id(mujoco, model, keyframe: int | str) -> int:
+    if isinstance(keyframe, str):
+        k = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, keyframe)
+        if k < 0:
+            raise LoaderError(f"MJCF has no keyframe named {keyframe!r}")
+        return k
+    if not 0 <= int(keyframe) < model.nkey:
+        raise LoaderError(f"keyframe {keyframe} out of range: the model has {model.nkey}")
+    return int(keyframe)
+
+
+def body_local_inertia(model, b: int) -> tuple[float, np.ndarray, np.ndarray]:
+    """MuJoCo body ``b``'s mass, centre and full inertia tensor about the centre (body frame)."""
+    R = quat_wxyz_to_matrix(model.body_iquat[b])
+    inertia = R @ np.diag(np.asarray(model.body_inertia[b], dtype=np.float64)) @ R.T
+    return float(model.body_mass[b]), np.array(model.body_ipos[b], dtype=np.float64), inertia
+
+
+class _MjcfLoader:
+    def __init__(self, mujoco, model, data, kappa, constitution, open_mesh, notes):
+        self.mj = mujoco
+        self.m = model
+        self.d = data
+        self.kappa = kappa
+        self.constitution = constitution
+        self.open_mesh = open_mesh
+        self.notes: list[str] = notes
+
+    # -- names --------------------------------------------------------------------------------
+    def body_name(self, b: int) -> str:
+        return self.m.body(b).name or f"body{b}"
+
+    def geom_name(self, g: int) -> str:
+        return self.m.geom(g).name or f"{self.body_name(int(self.m.geom_bodyid[g]))}/geom{g}"
+
+    def geom_type(self, g: int) -> str:
+        return self.mj.mjtGeom(int(self.m.geom_type[g])).name[len("mjGEOM_") :].lower()
+
+    # -- frames -------------------------------------------------------------------------------
+    def local_pose(self, b: int) -> np.ndarray:
+        return pose_matrix(quat_wxyz_to_matrix(self.m.body_quat[b]), self.m.body_pos[b])
+
+    def pose_in_root(self, b: int, root: int) -> np.ndarray:
+        """Pose of body ``b`` in the frame of its weld root (exact, from the model)."""
+        T = np.eye(4)
+        while b != root:
+            T = self.local_pose(b) @ T
+            b = int(self.m.body_parentid[b])
+        return T
+
+    def geom_local_pose(self, g: int) -> np.ndarray:
+        return pose_matrix(quat_wxyz_to_matrix(self.m.geom_quat[g]), self.m.geom_pos[g])
+
+    # -- geoms --------------------------------------------------------------------------------
+    def geom_shape(self, g: int) -> tuple[np.ndarray, np.ndarray]:
+        """Vertices (geom frame) and triangles of geom ``g``."""
+        kind, name = self.geom_type(g), self.geom_name(g)
+        if kind in _PRIMITIVES:
+            return primitive_surface(kind, self.m.geom_size[g][: _PRIMITIVES[kind]], name)
+        mesh = int(self.m.geom_dataid[g])
+        va, vn = int(self.m.mesh_vertadr[mesh]), int(self.m.mesh_vertnum[mesh])
+        fa, fn = int(self.m.mesh_faceadr[mesh]), int(self.m.mesh_facenum[mesh])
+        v = np.asarray(self.m.mesh_vert[va : va + vn], dtype=np.float64)
+        f = np.asarray(self.m.mesh_face[fa : fa + fn], dtype=np.int64)
+        label = f"{name} (mesh {self.m.mesh(mesh).name!r})"
+        return closed_surface(label, v, f, self.open_mesh, self.notes)
+
+    def classify_geoms(self, include_visual: bool, skip_unsupported: bool):
+        """Collision geoms per weld root, world-fixed geoms, and ground planes."""
+        m, weld = self.m, self.m.body_weldid
+        per_root: dict[int, list[int]] = {}
+        fixed: list[int] = []
+        grounds: list[Ground] = []
+        for g in range(m.ngeom):
+            b = int(m.geom_bodyid[g])
+            root = int(weld[b])
+            kind = self.geom_type(g)
+            if not include_visual and m.geom_contype[g] == 0 and m.geom_conaffinity[g] == 0:
+                continue
+            if kind == "plane" and root == 0:
+                n = np.array(self.d.geom_xmat[g]).reshape(3, 3)[:, 2]
+                height = float(n @ self.d.geom_xpos[g])
+                grounds.append(Ground(height, n, self.geom_name(g), float(m.geom_friction[g, 0])))
+                continue
+            if kind not in _PRIMITIVES and kind != "mesh":
+                msg = (
+                    f"geom {self.geom_name(g)!r} (body {self.body_name(b)!r}): unsupported geom "
+                    f"type {kind!r} (supported: {sorted(_PRIMITIVES)}, mesh, and plane on the "
+                    "world body)"
+                )
+                if not skip_unsupported:
+                    raise LoaderError(msg)
+                self.notes.append(msg + "; skipped")
+                continue
+            if root == 0:
+                fixed.append(g)
+            else:
+                per_root.setdefault(root, []).append(g)
+        return per_root, fixed, grounds
+
+    # -- bodies -------------------------------------------------------------------------------
+    def group_kind(self, root: int) -> tuple[str, str | None]:
+        m = self.m
+        adr, num = int(m.body_jntadr[root]), int(m.body_jntnum[root])
+        types = [
+            self.mj.mjtJoint(int(m.jnt_type[j])).name[len("mjJNT_") :].lower()
+            for j in range(adr, adr + num)
+        ]
+        names = [m.joint(j).name or f"joint{j}" for j in range(adr, adr + num)]
+        joint = ",".join(names) if names else None
+        if "free" in types:
+            return "dynamic", joint
+        return "kinematic", joint
+
+    def world_velocity(self, b: int) -> tuple[np.ndarray, np.ndarray]:
+        """(ω, v of the body-frame origin), both in world coordinates."""
+        res = np.zeros(6)
+        self.mj.mj_objectVelocity(self.m, self.d, self.mj.mjtObj.mjOBJ_XBODY, b, res, 0)
+        return res[:3], res[3:]
+
+    def run(self, include_visual: bool, skip_unsupported: bool):
+        m, d = self.m, self.d
+        per_root, fixed_geoms, grounds = self.classify_geoms(include_visual, skip_unsupported)
+        bodies: list[LoadedBody] = []
+        source_map: dict[int, int] = {}
+        for g in fixed_geoms:
+            v, f = self.geom_shape(g)
+            name = self.geom_name(g)
+            T = pose_matrix(np.array(d.geom_xmat[g]).reshape(3, 3), d.geom_xpos[g])
+            bodies.append(
+                make_body(
+                    name,
+                    "fixed",
+                    [Surface(name, v, f)],
+                    T,
+                    kappa=self.kappa,
+                    constitution=self.constitution,
+                    mass=None,
+                    links=(self.body_name(int(m.geom_bodyid[g])),),
+                    friction=float(m.geom_friction[g, 0]),
+                )
+            )
+        members: dict[int, list[int]] = {}
+        for b in range(1, m.nbody):
+            if int(m.body_weldid[b]) != 0:
+                members.setdefault(int(m.body_weldid[b]), []).append(b)
+        for root, group in members.items():
+            kind, joint = self.group_kind(root)
+            geoms = per_root.get(root, [])
+            names = [self.body_name(b) for b in group]
+            if not geoms:
+                note = (
+                    f"body {names[0]!r} ({kind}) has no collision geometry: no body is made for it"
+                )
+                if kind == "dynamic":
+                    raise LoaderError(
+                        note + " (a free body needs a surface; include_visual=True may help)"
+                    )
+                self.notes.append(note)
+                continue
+            surfaces = []
+            for g in geoms:
+                v, f = self.geom_shape(g)
+                X = self.pose_in_root(int(m.geom_bodyid[g]), root) @ self.geom_local_pose(g)
+                surfaces.append(Surface(self.geom_name(g), transform_points(X, v), f))
+            parts = []
+            for b in group:
+                mass, c, inertia = body_local_inertia(m, b)
+                X = self.pose_in_root(b, root)
+                parts.append(
+                    (mass, transform_points(X, c[None])[0], X[:3, :3] @ inertia @ X[:3, :3].T)
+                )
+            mass = combine_inertias(parts)
+            R = np.array(d.xmat[root]).reshape(3, 3)
+            omega, vel = self.world_velocity(root)
+            source_map[root] = len(bodies)
+            bodies.append(
+                make_body(
+                    names[0],
+                    kind,
+                    surfaces,
+                    pose_matrix(R, d.xpos[root]),
+                    kappa=self.kappa,
+                    constitution=self.constitution,
+                    mass=mass if mass[0] > 0 else None,
+                    velocity=velocity_matrix(R, omega, vel),
+                    links=names,
+                    joint=joint,
+                    friction=float(max(m.geom_friction[g, 0] for g in geoms)),
+                )
+            )
+        joints = []
+        for root, i in source_map.items():
+            parent = int(m.body_weldid[int(m.body_parentid[root])])
+            bodies[i].parent = source_map.get(parent)
+            adr, num = int(m.body_jntadr[root]), int(m.body_jntnum[root])
+            for j in range(adr, adr + num):
+                kind = self.mj.mjtJoint(int(m.jnt_type[j])).name[len("mjJNT_") :].lower()
+                kind = {"hinge": "revolute", "slide": "prismatic"}.get(kind, kind)
+                axis = np.array(d.xaxis[j]) if kind in ("revolute", "prismatic") else None
+                name = m.joint(j).name or f"joint{j}"
+                joints.append(
+                    JointInfo(name, kind, bodies[i].parent, i, np.array(d.xanchor[j]), axis)
+                )
+        return bodies, grounds, source_map, joints

@@ -1,0 +1,427 @@
+"""URDF scenes as affine bodies, through Pinocchio.
+
+One affine body per **Pinocchio joint** that carries collision geometry. Pinocchio treats URDF
+``fixed`` joints as frames and merges every link fixed to a joint into that joint's body
+(``model.inertias[j]`` is the merged inertia). abdsim does the same: the links of one
+Pinocchio joint form one rigid group, their collision geometries are merged into one surface
+(vertices in the joint frame), the body's pose is the joint frame's world placement
+``data.oMi[j]`` and its mass properties are exactly ``model.inertias[j]`` (mass, lever =
+centre of mass in the joint frame, inertia about the centre). The body is named after the
+link that owns the group's first collision geometry; :attr:`LoadedBody.links` lists every
+link of the group.
+
+Kinds: the group on Pinocchio's universe joint (the root link of a fixed-base robot, and any
+link fixed to it) is ``fixed``; the root of a floating-base robot (a free-flyer root joint) is
+``dynamic``; every other group is ``kinematic`` and follows a joint trajectory through
+:class:`abdsim.bridges.RobotDriver`.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+import xml.etree.ElementTree as ET
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+from abdsim.bridges._bodies import (
+    JointInfo,
+    LoadedBody,
+    LoaderError,
+    LoadResult,
+    Surface,
+    check_file,
+    closed_surface,
+    make_body,
+    primitive_surface,
+    transform_points,
+    velocity_matrix,
+)
+
+_FREE_FLYER = "JointModelFreeFlyer"
+
+
+def load_urdf(
+    path: str | os.PathLike,
+    package_dirs: Sequence[str | os.PathLike] | None = None,
+    q: np.ndarray | None = None,
+    kappa: float = 1e8,
+    *,
+    v: np.ndarray | None = None,
+    floating_base: bool = False,
+    constitution: str = "OrthoPotential",
+    mass_density: float | None = None,
+    open_mesh: str = "hull",
+) -> LoadResult:
+    """Load a URDF robot as affine bodies placed at configuration ``q``.
+
+    Args:
+        path: the URDF file.
+        package_dirs: folders that hold the packages ``package://NAME/...`` refers to (each
+            folder contains ``NAME/``). Default: every ancestor of the URDF's folder, then
+            ``ROS_PACKAGE_PATH``.
+        q: configuration (``model.nq``), default ``pinocchio.neutral(model)``.
+        kappa: shape stiffness κ of every body (Pa).
+        v: joint velocity (``model.nv``) giving the bodies' initial ``velocity`` (dT/dt);
+            zero by default.
+        floating_base: add a free-flyer root joint (the robot's root becomes a dynamic body).
+        constitution: ``"OrthoPotential"`` or ``"ARAP"``.
+        mass_density: if given, a group with collision geometry but no URDF mass gets the mass
+            of its surface at this density instead of raising.
+        open_mesh: what to do with a mesh that is not a closed surface: ``"hull"`` (use its
+            convex hull, with a warning) or ``"error"``.
+
+    Returns:
+        A :class:`LoadResult`; ``result.model`` is the ``pinocchio.Model``,
+        ``result.collision_model`` the ``pinocchio.GeometryModel``.
+
+    Raises:
+        FileNotFoundError: the URDF or a collision mesh file does not exist.
+        LoaderError (a ValueError): malformed XML, an element Pinocchio rejects, a link with a
+            non-physical inertia, a group with geometry but no mass, an unsupported geometry or
+            joint, a bad ``q``; the message names the link / joint / geometry.
+    """
+    import pinocchio as pin
+
+    if open_mesh not in ("hull", "error"):
+        raise ValueError(f"open_mesh must be 'hull' or 'error', got {open_mesh!r}")
+    urdf = check_file(path, "URDF", (".urdf", ".xml"))
+    dirs = _package_dirs(urdf, package_dirs)
+    root = _parse_xml(urdf)
+    link_mass = _check_inertials(root, urdf)
+    collisions = _check_collision_meshes(root, urdf, dirs)
+
+    kwargs = {"package_dirs": [str(d) for d in dirs]}
+    if floating_base:
+        kwargs["root_joint"] = pin.JointModelFreeFlyer()
+    try:
+        built = pin.buildModelsFromUrdf(
+            str(urdf), geometry_types=[pin.GeometryType.COLLISION], **kwargs
+        )
+    except (ValueError, RuntimeError, OSError) as e:
+        raise LoaderError(f"Pinocchio could not load URDF {urdf}: {e}") from e
+    model, collision_model = built[0], built[1]
+    data = model.createData()
+    _check_all_collisions_loaded(collision_model, model, collisions, urdf)
+
+    q = _configuration(pin, model, q, "q", model.nq)
+    v = np.zeros(model.nv) if v is None else _configuration(pin, model, v, "v", model.nv)
+    pin.forwardKinematics(model, data, q, v)
+
+    notes: list[str] = []
+    geoms_of: dict[int, list] = {}
+    for g in collision_model.geometryObjects:
+        geoms_of.setdefault(int(g.parentJoint), []).append(g)
+    for j in range(1, model.njoints):
+        if model.joints[j].shortname() == _FREE_FLYER and model.parents[j] != 0:
+            raise LoaderError(
+                f"joint {model.names[j]!r}: a floating joint below another joint is not "
+                "supported (only a floating root)"
+            )
+
+    bodies: list[LoadedBody] = []
+    body_of_joint: dict[int, int] = {}
+    for j in range(model.njoints):
+        links = [
+            f.name for f in model.frames if f.type == pin.FrameType.BODY and f.parentJoint == j
+        ]
+        geoms = geoms_of.get(j, [])
+        inertia = model.inertias[j]
+        if not geoms:
+            if j > 0 and inertia.mass > 0:
+                what = "dynamic" if _is_floating_root(model, j) else "kinematic"
+                note = (
+                    f"joint {model.names[j]!r} (links {links}) has mass {inertia.mass:g} kg but "
+                    f"no collision geometry: no {what} body is made for it"
+                )
+                if what == "dynamic":
+                    raise LoaderError(note)
+                notes.append(note)
+            continue
+        name = model.frames[int(geoms[0].parentFrame)].name
+        links = [name] + [n for n in links if n != name]
+        surfaces = [_geometry_surface(pin, g, model, open_mesh, notes) for g in geoms]
+        if j == 0:
+            # The fixed root: Pinocchio's universe inertia when the URDF gives one (its mass
+            # plays no role for a fixed body), else the surface's mass.
+            kind = "fixed"
+            mass = _joint_mass(model, 0, links, link_mass, mass_density or 1e3)
+        else:
+            kind = "dynamic" if _is_floating_root(model, j) else "kinematic"
+            mass = _joint_mass(model, j, links, link_mass, mass_density)
+        oMi = data.oMi[j]
+        R = np.array(oMi.rotation)
+        velocity = velocity_matrix(R, R @ data.v[j].angular, R @ data.v[j].linear)
+        body = make_body(
+            name,
+            kind,
+            surfaces,
+            np.array(oMi.homogeneous),
+            kappa=kappa,
+            constitution=constitution,
+            mass=mass,
+            velocity=velocity,
+            links=links,
+            joint=model.names[j] if j > 0 else None,
+            mass_density=mass_density or 1e3,
+        )
+        body.parent = _parent_body(model, j, body_of_joint)
+        body_of_joint[j] = len(bodies)
+        bodies.append(body)
+    if not bodies:
+        raise LoaderError(f"URDF {urdf} has no link with collision geometry: nothing to simulate")
+    for note in notes:
+        warnings.warn(note, stacklevel=2)
+    return LoadResult(
+        source=urdf,
+        format="urdf",
+        bodies=bodies,
+        joints=_joints(model, data, body_of_joint, bodies),
+        model=model,
+        collision_model=collision_model,
+        q=q,
+        source_map=body_of_joint,
+        notes=notes,
+    )
+
+
+# ---------------------------------------------------------------------------------------------
+# Input checks
+# ---------------------------------------------------------------------------------------------
+def _package_dirs(urdf: Path, package_dirs: Sequence[str | os.PathLike] | None) -> list[Path]:
+    if package_dirs is not None:
+        if isinstance(package_dirs, (str, os.PathLike)):
+            package_dirs = [package_dirs]
+        dirs = [Path(d).expanduser() for d in package_dirs]
+    else:
+        dirs = list(urdf.parent.parents) + [urdf.parent]
+    for d in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
+        if d:
+            dirs.append(Path(d))
+    return dirs
+
+
+def _parse_xml(urdf: Path) -> ET.Element:
+    try:
+        root = ET.parse(urdf).getroot()
+    except ET.ParseError as e:
+        raise LoaderError(f"malformed URDF {urdf}: {e}") from e
+    if root.tag != "robot":
+        raise LoaderError(f"URDF {urdf}: root element is <{root.tag}>, expected <robot>")
+    if root.find("link") is None:
+        raise LoaderError(f"URDF {urdf} has no <link>")
+    return root
+
+
+def _float_attr(elem: ET.Element, key: str, where: str) -> float:
+    raw = elem.get(key)
+    if raw is None:
+        raise LoaderError(f"{where}: <{elem.tag}> has no {key!r} attribute")
+    try:
+        return float(raw)
+    except ValueError as e:
+        raise LoaderError(f"{where}: <{elem.tag} {key}={raw!r}> is not a number") from e
+
+
+def _check_inertials(root: ET.Element, urdf: Path) -> dict[str, float | None]:
+    """Each link's URDF mass (None: no <inertial>); non-physical inertials raise."""
+    from abdsim.constitution import check_inertia
+
+    masses: dict[str, float | None] = {}
+    for link in root.iter("link"):
+        name = link.get("name", "?")
+        inertial = link.find("inertial")
+        if inertial is None:
+            masses[name] = None
+            continue
+        where = f"URDF {urdf.name}, link {name!r}"
+        mass_elem = inertial.find("mass")
+        if mass_elem is None:
+            raise LoaderError(f"{where}: <inertial> has no <mass>")
+        mass = _float_attr(mass_elem, "value", where)
+        if not np.isfinite(mass) or mass < 0:
+            raise LoaderError(f"{where}: mass must be finite and >= 0, got {mass}")
+        masses[name] = mass
+        inertia_elem = inertial.find("inertia")
+        if mass == 0:
+            continue
+        if inertia_elem is None:
+            raise LoaderError(f"{where}: <inertial> has a mass but no <inertia>")
+        c = {
+            k: _float_attr(inertia_elem, k, where)
+            for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+        }
+        tensor = np.array(
+            [
+                [c["ixx"], c["ixy"], c["ixz"]],
+                [c["ixy"], c["iyy"], c["iyz"]],
+                [c["ixz"], c["iyz"], c["izz"]],
+            ]
+        )
+        if not np.isfinite(tensor).all():
+            raise LoaderError(f"{where}: inertia has non-finite entries")
+        try:
+            check_inertia(tensor, what=f"{where}: inertia")
+        except ValueError as e:
+            raise LoaderError(str(e)) from e
+    return masses
+
+
+def _resolve_mesh(filename: str, urdf: Path, dirs: Sequence[Path]) -> Path | None:
+    if filename.startswith("package://"):
+        rest = filename[len("package://") :]
+        for d in dirs:
+            candidate = d / rest
+            if candidate.is_file():
+                return candidate
+        return None
+    if filename.startswith("file://"):
+        filename = filename[len("file://") :]
+    p = Path(filename)
+    if not p.is_absolute():
+        p = urdf.parent / p
+    return p if p.is_file() else None
+
+
+def _check_collision_meshes(root: ET.Element, urdf: Path, dirs: Sequence[Path]) -> dict[str, int]:
+    """Every collision element is a supported shape with an existing mesh; counts per link."""
+    counts: dict[str, int] = {}
+    known = {"box", "sphere", "cylinder", "mesh"}  # what urdfdom parses
+    for link in root.iter("link"):
+        name = link.get("name", "?")
+        for collision in link.findall("collision"):
+            geometry = collision.find("geometry")
+            shapes = list(geometry) if geometry is not None else []
+            if not shapes:
+                raise LoaderError(f"URDF {urdf.name}, link {name!r}: <collision> has no geometry")
+            tag = shapes[0].tag
+            if tag not in known:
+                raise LoaderError(
+                    f"URDF {urdf.name}, link {name!r}: unsupported collision geometry <{tag}> "
+                    f"(supported: {sorted(known)})"
+                )
+            counts[name] = counts.get(name, 0) + 1
+            if tag == "mesh":
+                filename = shapes[0].get("filename", "")
+                if _resolve_mesh(filename, urdf, dirs) is None:
+                    raise FileNotFoundError(
+                        f"URDF {urdf.name}, link {name!r}: collision mesh {filename!r} not found "
+                        f"(searched package dirs {[str(d) for d in dirs]})"
+                    )
+    return counts
+
+
+def _check_all_collisions_loaded(collision_model, model, expected: dict[str, int], urdf) -> None:
+    """urdfdom skips a collision element it cannot parse (printing to stderr): refuse that."""
+    loaded: dict[str, int] = {}
+    for g in collision_model.geometryObjects:
+        link = model.frames[int(g.parentFrame)].name
+        loaded[link] = loaded.get(link, 0) + 1
+    for link, n in expected.items():
+        if loaded.get(link, 0) != n:
+            raise LoaderError(
+                f"URDF {urdf.name}, link {link!r}: {n} <collision> element(s) but Pinocchio "
+                f"loaded {loaded.get(link, 0)} (an element it could not parse)"
+            )
+
+
+def _configuration(pin, model, value, what: str, n: int) -> np.ndarray:
+    if value is None:
+        return pin.neutral(model)
+    arr = np.asarray(value, dtype=np.float64).reshape(-1)
+    if arr.shape != (n,):
+        raise LoaderError(f"{what} must have {n} entries for this robot, got {arr.size}")
+    if not np.isfinite(arr).all():
+        raise LoaderError(f"{what} contains NaN or infinite values")
+    return arr
+
+
+# ---------------------------------------------------------------------------------------------
+# Bodies
+# ---------------------------------------------------------------------------------------------
+def _is_floating_root(model, j: int) -> bool:
+    return model.parents[j] == 0 and model.joints[j].shortname() == _FREE_FLYER
+
+
+def _parent_body(model, j: int, body_of_joint: dict[int, int]) -> int | None:
+    k = model.parents[j] if j > 0 else None
+    while k is not None:
+        if k in body_of_joint:
+            return body_of_joint[k]
+        k = model.parents[k] if k > 0 else None
+    return None
+
+
+def _joints(model, data, body_of_joint: dict[int, int], bodies) -> list[JointInfo]:
+    out = []
+    for j, i in body_of_joint.items():
+        if j == 0:
+            continue
+        joint, R = model.joints[j], np.array(data.oMi[j].rotation)
+        kind, axis = "other", None
+        if joint.shortname() == _FREE_FLYER:
+            kind = "free"
+        elif joint.shortname() == "JointModelSpherical":
+            kind = "ball"
+        elif joint.nv == 1:
+            S = np.array(data.joints[j].S).reshape(-1)
+            if np.linalg.norm(S[3:]) > 0:
+                kind, axis = "revolute", R @ S[3:]
+            else:
+                kind, axis = "prismatic", R @ S[:3]
+            axis = axis / np.linalg.norm(axis)
+        anchor = np.array(data.oMi[j].translation)
+        out.append(JointInfo(model.names[j], kind, bodies[i].parent, i, anchor, axis))
+    return out
+
+
+def _joint_mass(model, j, links, link_mass, mass_density):
+    inertia = model.inertias[j]
+    if inertia.mass > 0:
+        return float(inertia.mass), np.array(inertia.lever), np.array(inertia.inertia)
+    if mass_density is not None:
+        return None
+    missing = [n for n in links if link_mass.get(n) is None]
+    hint = f"links without <inertial>: {missing}" if missing else "every link has zero mass"
+    raise LoaderError(
+        f"joint {model.names[j]!r} (links {links}) has collision geometry but no mass ({hint}); "
+        "add an <inertial> or pass mass_density= to use the geometry's mass"
+    )
+
+
+def _geometry_surface(pin, g, model, open_mesh: str, notes: list[str]) -> Surface:
+    """The geometry object's closed surface in its parent joint's frame."""
+    import coal
+
+    shape = g.geometry
+    link = model.frames[int(g.parentFrame)].name
+    label = f"{g.name} (link {link!r})"
+    if isinstance(shape, coal.Box):
+        v, f = primitive_surface("box", np.array(shape.halfSide), label)
+    elif isinstance(shape, coal.Sphere):
+        v, f = primitive_surface("sphere", [shape.radius], label)
+    elif isinstance(shape, coal.Capsule):
+        v, f = primitive_surface("capsule", [shape.radius, shape.halfLength], label)
+    elif isinstance(shape, coal.Cylinder):
+        v, f = primitive_surface("cylinder", [shape.radius, shape.halfLength], label)
+    elif g.meshPath and Path(g.meshPath).is_file() and isinstance(shape, coal.CollisionGeometry):
+        try:
+            mesh = trimesh.load(g.meshPath, force="mesh")
+        except Exception as e:  # trimesh raises many types on bad files
+            raise LoaderError(f"geometry {label}: cannot read mesh {g.meshPath}: {e}") from e
+        if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
+            raise LoaderError(f"geometry {label}: mesh {g.meshPath} has no triangles")
+        v = np.asarray(mesh.vertices, dtype=np.float64) * np.asarray(g.meshScale)
+        f = np.asarray(mesh.faces)
+        if np.linalg.det(np.diag(np.asarray(g.meshScale, dtype=float))) < 0:
+            f = f[:, ::-1]  # a mirroring scale flips the winding
+        v, f = closed_surface(label, v, f, open_mesh, notes)
+    else:
+        raise LoaderError(
+            f"geometry {label}: unsupported collision shape {type(shape).__name__} "
+            f"(mesh path {g.meshPath!r})"
+        )
+    return Surface(g.name, transform_points(np.array(g.placement.homogeneous), v), f)

@@ -1,0 +1,244 @@
+"""Every bad input of the loaders raises a clear error that names the element."""
+
+from __future__ import annotations
+
+import shutil
+
+import numpy as np
+import pytest
+
+from abdsim.bridges import LoaderError, MjcfDriver, RobotDriver, load_mjcf, load_urdf
+
+LINK = """
+  <link name="{name}">
+    <inertial><mass value="{mass}"/>
+      <inertia ixx="{ixx}" ixy="0" ixz="0" iyy="{iyy}" iyz="0" izz="{izz}"/></inertial>
+    <collision><geometry>{geometry}</geometry></collision>
+  </link>"""
+
+
+def urdf(tmp_path, *links, joints="", name="r.urdf"):
+    path = tmp_path / name
+    path.write_text(f'<?xml version="1.0"?>\n<robot name="r">{"".join(links)}{joints}</robot>')
+    return path
+
+
+def link(name="base", mass=1.0, ixx=0.01, iyy=0.01, izz=0.01, geometry='<box size="0.1 0.1 0.1"/>'):
+    return LINK.format(name=name, mass=mass, ixx=ixx, iyy=iyy, izz=izz, geometry=geometry)
+
+
+def revolute(parent, child):
+    return (
+        f'<joint name="{child}_joint" type="revolute"><parent link="{parent}"/>'
+        f'<child link="{child}"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+    )
+
+
+# -- URDF ------------------------------------------------------------------------------------
+def test_missing_urdf_file(tmp_path):
+    with pytest.raises(FileNotFoundError, match="URDF file not found"):
+        load_urdf(tmp_path / "nope.urdf")
+
+
+def test_malformed_urdf(tmp_path):
+    (tmp_path / "bad.urdf").write_text("<robot name='r'><link name='a'></robot>")
+    with pytest.raises(LoaderError, match="malformed URDF"):
+        load_urdf(tmp_path / "bad.urdf")
+    (tmp_path / "notrobot.urdf").write_text("<mujoco/>")
+    with pytest.raises(LoaderError, match="expected <robot>"):
+        load_urdf(tmp_path / "notrobot.urdf")
+
+
+def test_missing_mesh_file_names_link_and_file(tmp_path):
+    path = urdf(tmp_path, link("base", geometry='<mesh filename="package://pkg/gone.stl"/>'))
+    with pytest.raises(FileNotFoundError, match=r"link 'base'.*package://pkg/gone.stl"):
+        load_urdf(path)
+
+
+def test_unsupported_geometry_names_link(tmp_path):
+    path = urdf(tmp_path, link("base", geometry='<capsule radius="0.1" length="0.2"/>'))
+    with pytest.raises(LoaderError, match=r"link 'base'.*unsupported collision geometry <capsule>"):
+        load_urdf(path)
+
+
+@pytest.mark.parametrize(
+    ("inertia", "match"),
+    [
+        ({"ixx": -0.01}, "not positive definite"),
+        ({"ixx": 0.01, "iyy": 0.01, "izz": 0.05}, "triangle inequality"),
+    ],
+)
+def test_non_physical_inertia_names_link(tmp_path, inertia, match):
+    path = urdf(tmp_path, link("base"), link("arm", **inertia), joints=revolute("base", "arm"))
+    with pytest.raises(LoaderError, match=rf"link 'arm'.*{match}"):
+        load_urdf(path)
+
+
+def test_negative_mass_names_link(tmp_path):
+    path = urdf(tmp_path, link("base", mass=-1.0))
+    with pytest.raises(LoaderError, match=r"link 'base': mass must be finite and >= 0"):
+        load_urdf(path)
+
+
+def test_moving_link_with_geometry_but_no_inertial(tmp_path):
+    bare = (
+        '<link name="arm"><collision><geometry><box size="0.1 0.1 0.1"/></geometry>'
+        "</collision></link>"
+    )
+    path = urdf(tmp_path, link("base"), bare, joints=revolute("base", "arm"))
+    with pytest.raises(
+        LoaderError, match=r"links \['arm'\].*no mass.*without <inertial>: \['arm'\]"
+    ):
+        load_urdf(path)
+    res = load_urdf(path, mass_density=500.0)  # ... or its geometry's mass, when asked
+    assert res.bodies[1].geometry.meta["mass"] == pytest.approx(500.0 * 1e-3)
+
+
+def test_link_with_mass_but_no_geometry_is_reported(tmp_path):
+    ghost = link("ghost").replace(
+        '<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>', ""
+    )
+    path = urdf(tmp_path, link("base"), ghost, joints=revolute("base", "ghost"))
+    with pytest.warns(UserWarning, match="'ghost'.*no collision geometry"):
+        res = load_urdf(path)
+    assert res.names == ["base"] and "ghost" in res.notes[0]
+
+
+def test_no_collision_geometry_at_all(tmp_path):
+    path = tmp_path / "empty.urdf"
+    path.write_text('<robot name="r"><link name="a"/></robot>')
+    with pytest.raises(LoaderError, match="no link with collision geometry"):
+        load_urdf(path)
+
+
+def test_bad_configuration(tmp_path):
+    path = urdf(tmp_path, link("base"), link("arm"), joints=revolute("base", "arm"))
+    with pytest.raises(LoaderError, match="q must have 1 entries"):
+        load_urdf(path, q=[0.0, 1.0])
+    with pytest.raises(LoaderError, match="NaN"):
+        load_urdf(path, q=[np.nan])
+    with pytest.raises(ValueError, match="open_mesh"):
+        load_urdf(path, open_mesh="ignore")
+
+
+def test_open_mesh_is_hulled_with_a_warning_or_refused(tmp_path, data_dir):
+    import trimesh
+
+    mesh = trimesh.creation.box((0.1, 0.1, 0.1))
+    open_mesh = trimesh.Trimesh(mesh.vertices, mesh.faces[:-2])  # a box missing one side
+    open_mesh.export(tmp_path / "open.stl")
+    path = urdf(tmp_path, link("base", geometry='<mesh filename="open.stl"/>'))
+    with pytest.warns(UserWarning, match="not a closed surface.*convex hull"):
+        res = load_urdf(path)
+    assert res.bodies[0].geometry.meta["volume"] == pytest.approx(1e-3)
+    with pytest.raises(LoaderError, match="not a closed"):
+        load_urdf(path, open_mesh="error")
+
+
+def test_driver_rejects_bad_trajectories(data_dir):
+    res = load_urdf(data_dir / "arm.urdf")
+    with pytest.raises(ValueError, match=r"shape \(T, 2\)"):
+        RobotDriver(res, np.zeros((3, 5)), dt=0.1)
+    with pytest.raises(ValueError, match="times= or a uniform dt="):
+        RobotDriver(res, np.zeros((3, 2)))
+    with pytest.raises(ValueError, match="strictly increasing"):
+        RobotDriver(res, np.zeros((3, 2)), times=[0, 1, 1])
+    with pytest.raises(ValueError, match="NaN"):
+        RobotDriver(res, np.full((2, 2), np.nan), dt=0.1)
+    with pytest.raises(ValueError, match="expected 2 finite"):
+        RobotDriver(res, lambda t: [0.0]).targets(0.0)
+    with pytest.raises(ValueError, match="MjcfDriver drives an MJCF"):
+        MjcfDriver(res, np.zeros((1, 2)))
+
+
+# -- MJCF ------------------------------------------------------------------------------------
+def mjcf(tmp_path, body, assets="", name="s.xml"):
+    path = tmp_path / name
+    path.write_text(f"<mujoco><asset>{assets}</asset><worldbody>{body}</worldbody></mujoco>")
+    return path
+
+
+def test_missing_and_malformed_mjcf(tmp_path):
+    with pytest.raises(FileNotFoundError, match="MJCF file not found"):
+        load_mjcf(tmp_path / "nope.xml")
+    (tmp_path / "bad.xml").write_text("<mujoco><worldbody><body></worldbody></mujoco>")
+    with pytest.raises(LoaderError, match="MuJoCo could not load"):
+        load_mjcf(tmp_path / "bad.xml")
+
+
+def test_missing_mesh_file_in_mjcf(tmp_path):
+    path = mjcf(
+        tmp_path,
+        '<body><freejoint/><geom type="mesh" mesh="m"/></body>',
+        assets='<mesh name="m" file="gone.stl"/>',
+    )
+    with pytest.raises(FileNotFoundError, match="gone.stl"):
+        load_mjcf(path)
+
+
+def test_unsupported_geom_type(tmp_path):
+    path = mjcf(
+        tmp_path,
+        '<geom name="terrain" type="hfield" hfield="h"/>'
+        '<body><freejoint/><geom size="0.1"/></body>',
+        assets='<hfield name="h" nrow="3" ncol="3" size="1 1 0.1 0.1"/>',
+    )
+    with pytest.raises(LoaderError, match=r"geom 'terrain'.*unsupported geom type 'hfield'"):
+        load_mjcf(path)
+    with pytest.warns(UserWarning, match="skipped"):
+        res = load_mjcf(path, skip_unsupported=True)
+    assert len(res.bodies) == 1
+
+
+def test_plane_on_a_moving_body_is_refused_naming_it(tmp_path):
+    path = mjcf(
+        tmp_path,
+        '<body name="b"><freejoint/><geom name="p" type="plane" size="1 1 1"/>'
+        '<geom type="sphere" size="0.1"/></body>',
+    )
+    with pytest.raises(LoaderError, match=r"(?s)plane only allowed in static bodies.*'p'"):
+        load_mjcf(path)
+
+
+def test_non_physical_inertia_is_rejected_with_its_body(tmp_path):
+    path = mjcf(
+        tmp_path,
+        '<body name="odd"><freejoint/><geom type="sphere" size="0.1"/>'
+        '<inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.05"/></body>',
+    )
+    with pytest.raises(LoaderError, match=r"(?s)inertia must satisfy A \+ B >= C.*'odd'"):
+        load_mjcf(path)
+
+
+def test_free_body_without_collision_geometry(tmp_path):
+    path = mjcf(
+        tmp_path,
+        '<body name="ghost"><freejoint/><geom type="sphere" size="0.1" contype="0" '
+        'conaffinity="0"/></body><geom type="box" size="1 1 0.1"/>',
+    )
+    with pytest.raises(LoaderError, match=r"body 'ghost' \(dynamic\) has no collision geometry"):
+        load_mjcf(path)
+
+
+def test_bad_keyframe(scenes_dir):
+    with pytest.raises(LoaderError, match="no keyframe named 'nope'"):
+        load_mjcf(scenes_dir / "free_bodies.xml", keyframe="nope")
+    with pytest.raises(LoaderError, match="keyframe 3 out of range"):
+        load_mjcf(scenes_dir / "free_bodies.xml", keyframe=3)
+
+
+def test_open_mjcf_mesh_refused_when_asked(tmp_path):
+    # A single triangle fan (open) given inline.
+    path = mjcf(
+        tmp_path,
+        '<body><freejoint/><geom type="mesh" mesh="m"/></body>',
+        assets='<mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1" face="0 2 1 0 1 3 0 3 2"/>',
+    )
+    with pytest.raises(LoaderError, match="not a closed"):
+        load_mjcf(path, open_mesh="error")
+
+
+def test_copied_scene_loads_from_anywhere(tmp_path, scenes_dir):
+    shutil.copy(scenes_dir / "free_bodies.xml", tmp_path / "copy.xml")
+    assert len(load_mjcf(tmp_path / "copy.xml").bodies) == 9
