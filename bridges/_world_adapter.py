@@ -14,6 +14,7 @@ change of the World's API is absorbed here. What is used:
 
 from __future__ import annotations
 
+import inspect
 import weakref
 from dataclasses import dataclass
 from typing import Any
@@ -73,8 +74,14 @@ def build_scene(result: Any, **settings: Any) -> Any:
         kwargs["friction"] = float(max(frictions))  # MuJoCo combines a pair by the max
     kwargs.update(settings)
     scene = scene_cls(**kwargs)
+    # Kinematic links declared as such up front, where the Scene supports it: contact then
+    # ignores link-link overlaps (which joints make common) from the initial check on.
+    add_kinematic = "kinematic" in inspect.signature(scene.add).parameters
     for i, body in enumerate(result.bodies):
-        handle = scene.add(body.geometry)
+        if add_kinematic:
+            handle = scene.add(body.geometry, kinematic=body.kind == "kinematic")
+        else:
+            handle = scene.add(body.geometry)
         start = getattr(handle, "start", i)
         if start != i:  # pragma: no cover - a fresh scene numbers bodies from 0
             raise RuntimeError(f"body {body.name!r} got index {start}, expected {i}")

@@ -10,7 +10,6 @@ import numpy as np
 from abdsim.geometry.simplicial_complex import SimplicialComplex
 from abdsim.sim.settings import SceneSettings
 
-
 GROUND = "ground"  #: the ground's name in ``Scene.contact_table``
 
 
@@ -51,7 +50,10 @@ class ContactTable:
         """Whether elements a and b collide (``enabled``) and with which μ (None: default)."""
         if friction is not None and not (np.isfinite(friction) and friction >= 0):
             raise ValueError(f"friction must be finite and >= 0, got {friction!r}")
-        self._rules[self._key(a, b)] = (bool(enabled), None if friction is None else float(friction))
+        self._rules[self._key(a, b)] = (
+            bool(enabled),
+            None if friction is None else float(friction),
+        )
 
     def get(self, a: int | str, b: int | str) -> tuple[bool, float | None]:
         """(enabled, friction or None for the default) of a pair."""
@@ -81,6 +83,8 @@ class BodyHandle:
     sc: SimplicialComplex = field(repr=False, compare=False)
     #: contact element id of each instance (``Scene.contact_table``)
     contact_elements: tuple[int, ...] = field(default=(), repr=False, compare=False)
+    #: the bodies start kinematic (held at their pose until given targets)
+    kinematic: bool = False
 
     @property
     def bodies(self) -> range:
@@ -192,7 +196,9 @@ class Scene:
         self._ground = Ground(height, friction)
         return self._ground
 
-    def add(self, sc: SimplicialComplex, contact_element: int | Any = 0) -> BodyHandle:
+    def add(
+        self, sc: SimplicialComplex, contact_element: int | Any = 0, kinematic: bool = False
+    ) -> BodyHandle:
         """Add every instance of ``sc`` as a body; returns their handle.
 
         ``sc`` must carry a constitution (``AffineBodyConstitution(...).apply_to(sc, kappa)``).
@@ -203,6 +209,10 @@ class Scene:
             sc: the geometry (every instance becomes a body).
             contact_element: contact element id of the bodies (one int, or one per
                 instance), for ``contact_table``.
+            kinematic: the bodies are scripted from the start (e.g. robot links): the World
+                holds them at their pose until ``set_kinematic_target``/``schedule`` moves
+                them. Contact ignores pairs of two kinematic or fixed bodies (and kinematic
+                bodies with the ground), so overlapping links are fine.
 
         Raises:
             ValueError: no constitution, no instances, ``sc`` already added, or bad
@@ -240,6 +250,7 @@ class Scene:
             start + sc.instance_count,
             sc,
             tuple(int(e) for e in elements),
+            bool(kinematic),
         )
         self._geometries.append(sc)
         self._handles.append(handle)

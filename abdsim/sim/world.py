@@ -194,6 +194,11 @@ class World:
         self._core = _core.World(data, settings)
         self._core.set_history_limit(int(scene.settings.history_limit))
         self._schedules: dict[int, Schedule] = {}
+        for h in self._handles:
+            if h.kinematic:
+                q0 = self._core.q
+                for b in h.bodies:
+                    self._core.set_kinematic_target(b, q0[b])
         self._contact = None
         if scene.settings.contact and self._needs_contact(data, scene):
             try:
@@ -435,6 +440,11 @@ class World:
 
         The body is held at the target during the solve (it pushes, nothing pushes it) and
         its velocity follows from the motion. Without a new target it rests where it is.
+        With contact, a move that would cross a dynamic body (or bring it through contact) is
+        not forced: for that step the body is driven towards the target by a stiff spring
+        (``kinematic_drive_stiffness``), pushes what it meets without penetrating it, and
+        ``diagnostics.kinematic_lag`` says how far it stayed from the target. Kinematic and
+        fixed bodies do not collide with each other.
         """
         T = _as_transforms(transform, 1, "kinematic target")
         _check_bottom_row(T, "kinematic target")
@@ -458,9 +468,14 @@ class World:
         self._schedules[int(body)] = schedule
 
     def release_kinematic(self, body: int) -> None:
-        """Return a kinematic body to the dynamics (keeping its velocity)."""
-        self._schedules.pop(int(body), None)
+        """Return a kinematic body to the dynamics (keeping its velocity).
+
+        Raises:
+            ValueError: with contact, when the body is in contact with (or overlaps) another
+                kinematic or fixed body or the ground, which it now collides with.
+        """
         self._core.release_kinematic(int(body))
+        self._schedules.pop(int(body), None)
 
     def is_kinematic(self, body: int) -> bool:
         return bool(self._core.is_kinematic(int(body)))
@@ -480,7 +495,9 @@ class World:
         """
         if max_distance is not None and not (max_distance > 0 and math.isfinite(max_distance)):
             raise ValueError(f"max_distance must be positive and finite, got {max_distance!r}")
-        return float(self._core.min_contact_distance(-1.0 if max_distance is None else max_distance))
+        return float(
+            self._core.min_contact_distance(-1.0 if max_distance is None else max_distance)
+        )
 
     def add_term(self, term: _core.EnergyTerm) -> None:
         """Add a potential (contact, joints, a ``_core.PythonEnergyTerm`` subclass...) to Π."""

@@ -54,6 +54,7 @@ IpcContactTerm::IpcContactTerm(const SceneData& scene, const ContactSettings& se
       table_(mesh_.num_bodies(), settings.body_contact_element, settings.ground_contact_element,
              settings.mu, settings.contact_table),
       broad_phase_(mesh_, [this](int a, int b) { return bodies_may_collide(a, b); }),
+      scripted_(size_t(mesh_.num_bodies()), 0),
       dt_(scene.dt) {
   if (!(dt_ > 0.0)) throw std::invalid_argument("IpcContactTerm: scene dt must be > 0");
   settings_.contact_table = nullptr;  // resolved into table_; keep no reference to the rule
@@ -87,9 +88,15 @@ IpcContactTerm::IpcContactTerm(const SceneData& scene, const ContactSettings& se
 }
 
 bool IpcContactTerm::bodies_may_collide(int a, int b) const {
-  if (b < 0) return settings_.ground && !mesh_.fixed[a] && table_.ground(a).enabled;
-  if (mesh_.fixed[a] && mesh_.fixed[b]) return false;  // neither can move: nothing to resolve
+  const bool passive_a = mesh_.fixed[a] || scripted_[a];
+  if (b < 0) return settings_.ground && !passive_a && table_.ground(a).enabled;
+  // Neither moves by the dynamics: nothing to resolve.
+  if (passive_a && (mesh_.fixed[b] || scripted_[b])) return false;
   return table_.bodies(a, b).enabled;
+}
+
+void IpcContactTerm::set_scripted(int body, bool scripted) {
+  scripted_.at(body) = scripted;
 }
 
 BarrierParams IpcContactTerm::barrier_params(double kappa) const {

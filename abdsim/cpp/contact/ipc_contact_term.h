@@ -3,7 +3,8 @@
 //     Σ_active κ m_k b(d_k²; d̂, ξ_k)  +  Σ_lagged μ_k λ_k f0(|u_k|; ε_v h)
 // (the solver scales by h²). Vertex-space Hessians are PSD-projected per stencil (unless
 // ContactSettings::project_hessian is false) and mapped to 12×12 body blocks J_iᵀ H J_j. Fixed bodies take part (they only do not move); pairs of two
-// fixed bodies are ignored, they can neither move apart nor be helped.
+// fixed (or scripted, see set_scripted) bodies are ignored, they can neither move apart nor be
+// helped.
 //
 // Call order the solver should follow each step:
 //   begin_step(ctx)            lag friction at q_t (normal forces, bases, closest points);
@@ -95,6 +96,12 @@ class IpcContactTerm : public EnergyTerm {
   double barrier_value(const VecX& q) const;
   double friction_value(const VecX& q) const;
 
+  // Scripted bodies (kinematic: the solver moves them along a prescribed path) collide with
+  // dynamic bodies only: pairs of two scripted or fixed bodies, and scripted bodies with the
+  // ground, are ignored (nothing could resolve them), here and in check_initial.
+  void set_scripted(int body, bool scripted);
+  bool scripted(int body) const { return scripted_.at(body) != 0; }
+
   double kappa() const { return kappa_; }
   void set_kappa(double kappa);
   bool adaptive_kappa() const { return settings_.kappa <= 0.0; }
@@ -127,6 +134,7 @@ class IpcContactTerm : public EnergyTerm {
   contact::ContactMesh mesh_;
   contact::ContactTable table_;
   mutable contact::BroadPhase broad_phase_;  // a cache of refit BVHs (see above)
+  std::vector<char> scripted_;  // per body, see set_scripted
   contact::ActiveSet active_;
   // The last set built for another q (line-search trials): update() at that q reuses it.
   mutable contact::ActiveSet last_built_;

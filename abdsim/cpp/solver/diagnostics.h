@@ -18,9 +18,9 @@ class SolverError : public std::runtime_error {
 struct StepDiagnostics {
   long step = 0;       // index of the step (0 for the first one taken)
   double time = 0.0;   // simulated time at the end of the step
-  // Newton iterations: the global count, or with the per-body fast path the largest count
-  // over bodies; `total_body_iterations` sums them over bodies (= n_bodies * iterations on
-  // the global path).
+  // Newton iterations: the largest count over bodies (per-body fast path), or the count of
+  // the coupled iterations (with terms; at least that of any body that kept its free
+  // per-body solution); `total_body_iterations` sums the iterations each body took part in.
   int newton_iterations = 0;
   long total_body_iterations = 0;
   bool converged = false;

@@ -123,11 +123,25 @@ void World::set_kinematic_target(int body, const Vec12& q_target) {
   require(q_target.allFinite(), describe(body) + ": kinematic target is not finite");
   kinematic_[body] = 1;
   kinematic_target_.segment<12>(12 * body) = q_target;
+  if (contact_) contact_->set_scripted(body, true);
 }
 
 void World::release_kinematic(int body) {
   check_body(body);
+  if (!kinematic_[body]) return;
   kinematic_[body] = 0;
+  if (!contact_) return;
+  // Back to the dynamics: it now collides with other scripted bodies and the ground, so the
+  // state must be a valid contact configuration for it.
+  contact_->set_scripted(body, false);
+  try {
+    contact_->check_initial(q_);
+  } catch (const std::invalid_argument& e) {
+    kinematic_[body] = 1;
+    contact_->set_scripted(body, true);
+    throw std::invalid_argument("cannot release " + describe(body) + " from its kinematic "
+                                "drive here: " + e.what());
+  }
 }
 
 // q̂, q̃, the constrained mask and the Newton predictor x_pred for this step (c = h, or

@@ -96,7 +96,9 @@ class World {
   // Makes `body` kinematic (if it is not yet) with its pose at the end of the next step.
   // The target stays until replaced: without a new one the body rests there.
   void set_kinematic_target(int body, const Vec12& q_target);
-  // Hands a kinematic body back to the dynamics, with the velocity it had.
+  // Hands a kinematic body back to the dynamics, with the velocity it had. With contact, it
+  // must not be in contact with anything then (std::invalid_argument otherwise: it stays
+  // kinematic). Contact ignores pairs of two kinematic or fixed bodies.
   void release_kinematic(int body);
   bool is_kinematic(int body) const { return kinematic_.at(check_body(body)) != 0; }
 

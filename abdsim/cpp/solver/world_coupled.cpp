@@ -305,8 +305,14 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   VecX island_st(n_), island_sa(n_);
   std::string solver_used;
   bool all_done = false;
-  for (int b = 0; b < n_; ++b)
-    if (movable_[b] && !frozen_[island(b)]) ++d.coupled_bodies;
+  int free_newton = 0;  // iterations of the bodies whose free solution stands
+  for (int b = 0; b < n_; ++b) {
+    if (!movable_[b]) continue;
+    if (frozen_[island(b)])
+      free_newton = std::max(free_newton, free_iterations[b]);
+    else
+      ++d.coupled_bodies;
+  }
 
   for (int it = 0; it < settings_.max_newton_iterations; ++it) {
     int n_active = 0;
@@ -532,6 +538,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     }
   }
   d.converged = true;
+  d.newton_iterations = std::max(d.newton_iterations, free_newton);
   d.linear_solver = solver_used.empty() ? "block_diagonal" : solver_used;
 
   // Driven kinematic bodies: how far each vertex was left from its target.
