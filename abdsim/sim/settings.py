@@ -33,7 +33,9 @@ class SceneSettings:
         newton_tol_affine: ... and every |ΔA|∞ ≤ this · dt (1/s). The converged step is still
             applied, so what is left is of second order in these numbers (free flight: AAᵀ
             stays within ~1e-7 of I).
-        newton_max_iterations: Newton iterations before a step fails with SolverError.
+        newton_max_iterations: Newton iterations before a step fails with SolverError
+            (free flight needs 1-3; contact steps where bodies settle on edges and corners
+            can take tens).
         line_search_max_iterations: halvings of the backtracking (Armijo) line search.
         armijo_c: sufficient-decrease constant of the line search.
         ccd_safety: a step bounded by an energy term's ``max_step`` (CCD) is taken to this
@@ -55,9 +57,10 @@ class SceneSettings:
             or a body with meta ``self_collision = 1``.
         d_hat: barrier activation distance d̂ (m): surfaces closer than d̂ (beyond their
             ``thickness``) repel; resting gaps end up in (0, d̂].
-        contact_stiffness: barrier stiffness κ (the term's κ = IPC's κ / h²); 0: IPC's
-            adaptive stiffness (balanced against the rest of Π whenever contact starts,
-            never lowered, doubled while a gap keeps closing below 1e-9 × scene size).
+        contact_stiffness: barrier stiffness κ (N/m³; the term's κ, = IPC's κ / h²);
+            0: IPC's adaptive stiffness (at the start of every step with active contact,
+            balanced against the rest of Π's gradient and clamped to [κ_min, 100 κ_min];
+            doubled within a step while a gap keeps closing below 1e-9 × scene size).
         friction: default Coulomb coefficient μ of every pair (0: frictionless); per pair in
             ``Scene.contact_table``, with the ground in ``Scene.add_ground``.
         eps_v: friction smoothing speed ε_v (m/s): "static" friction creeps at a fraction of
@@ -72,7 +75,7 @@ class SceneSettings:
 
     Other:
         project_psd: project the shape-energy Hessian to PSD (leave on).
-        num_threads: OpenMP threads (0: OpenMP's default). Results are bit-identical for any
+        num_threads: worker threads (0: all hardware threads). Results are bit-identical for any
             number of threads.
         history_limit: per-step diagnostics kept in ``World.history`` (0: none).
     """
@@ -82,7 +85,7 @@ class SceneSettings:
     integrator: Literal["bdf1", "bdf2"] = "bdf1"
     newton_tol_translation: float = 0.01
     newton_tol_affine: float = 0.1
-    newton_max_iterations: int = 50
+    newton_max_iterations: int = 200
     line_search_max_iterations: int = 40
     armijo_c: float = 1e-4
     ccd_safety: float = 0.8

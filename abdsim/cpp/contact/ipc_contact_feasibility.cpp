@@ -67,14 +67,13 @@ void IpcContactTerm::swept_tois(const std::vector<Vec3>& x0, const std::vector<V
   options.target = settings_.ccd_target;
   const int n = int(stencils.size());
   toi.assign(size_t(n), 1.0);
-  ABD_PARALLEL_FOR_IF(n >= kMinParallelCcd)
-  for (int i = 0; i < n; ++i) {
+  for_each_stencil(n, n >= kMinParallelCcd, threads_, [&](int i) {
     // Pairs that do not move relative to each other keep their distance: no CCD needed.
     const ContactStencil& s = stencils[size_t(i)];
     bool moving = false;
     for (int k = 0; k < s.nv && !moving; ++k) moving = x0[s.vertices[k]] != x1[s.vertices[k]];
     if (moving) toi[size_t(i)] = candidate_toi(s, x0, x1, settings_.ground_height, options);
-  }
+  });
 }
 
 double IpcContactTerm::max_step(const VecX& q, const VecX& dq) const {

@@ -34,14 +34,15 @@ VecX stacked_q(const SceneData& scene) {
 // big enough), then hands each result to consume(i, r) serially and in order: bounded memory,
 // deterministic sums.
 template <class Eval, class Consume>
-void evaluate_in_order(int n, bool parallel, const Eval& eval, const Consume& consume) {
+void evaluate_in_order(int n, bool parallel, int threads, const Eval& eval,
+                       const Consume& consume) {
   constexpr int kChunk = 4096;
   std::vector<StencilEnergy> results;
   for (int begin = 0; begin < n; begin += kChunk) {
     const int end = std::min(n, begin + kChunk);
     results.resize(size_t(end - begin));
-    ABD_PARALLEL_FOR_IF(parallel && end - begin >= kMinParallelHessians)
-    for (int i = begin; i < end; ++i) results[size_t(i - begin)] = eval(i);
+    for_each_stencil(end - begin, parallel && end - begin >= kMinParallelHessians, threads,
+                     [&](int k) { results[size_t(k)] = eval(begin + k); });
     for (int i = begin; i < end; ++i) consume(i, results[size_t(i - begin)]);
   }
 }
@@ -55,6 +56,7 @@ IpcContactTerm::IpcContactTerm(const SceneData& scene, const ContactSettings& se
              settings.mu, settings.contact_table),
       broad_phase_(mesh_, [this](int a, int b) { return bodies_may_collide(a, b); }),
       scripted_(size_t(mesh_.num_bodies()), 0),
+      threads_(resolve_threads(0)),
       dt_(scene.dt) {
   if (!(dt_ > 0.0)) throw std::invalid_argument("IpcContactTerm: scene dt must be > 0");
   settings_.contact_table = nullptr;  // resolved into table_; keep no reference to the rule
@@ -94,6 +96,8 @@ bool IpcContactTerm::bodies_may_collide(int a, int b) const {
   if (passive_a && (mesh_.fixed[b] || scripted_[b])) return false;
   return table_.bodies(a, b).enabled;
 }
+
+void IpcContactTerm::set_threads(int threads) { threads_ = resolve_threads(threads); }
 
 void IpcContactTerm::set_scripted(int body, bool scripted) {
   scripted_.at(body) = scripted;
@@ -146,10 +150,13 @@ void IpcContactTerm::begin_step(const StepContext& ctx) {
     kappa_max_ = 100.0 * kappa_min_;
     kappa_ = std::clamp(kappa_, kappa_min_, kappa_max_);
   }
-  if (last_built_.q.size() == ctx.q_t.size() && last_built_.q == ctx.q_t)
+  if (active_.q.size() == ctx.q_t.size() && active_.q == ctx.q_t) {
+    // the set of the last update (the previous step's end): still valid
+  } else if (last_built_.q.size() == ctx.q_t.size() && last_built_.q == ctx.q_t) {
     active_ = last_built_;
-  else
+  } else {
     active_ = build_active_set(ctx.q_t, settings_.d_hat);
+  }
   friction_ = lag_friction(active_, barrier_params(kappa_));
 }
 
@@ -215,7 +222,7 @@ void IpcContactTerm::add_barrier_gradient(const ActiveSet& set, double kappa, do
                                           VecX& gradient) const {
   const BarrierParams p = barrier_params(kappa);
   evaluate_in_order(
-      int(set.stencils.size()), false,
+      int(set.stencils.size()), false, threads_,
       [&](int i) { return stencil_barrier(set.stencils[i], set.x, p, 1); },
       [&](int i, const StencilEnergy& e) {
         const ContactStencil& s = set.stencils[i];
@@ -230,7 +237,7 @@ void IpcContactTerm::add_gradient(const VecX& q, double scale, VecX& gradient) c
   const ActiveSet& set = active_set_at(q, scratch);
   add_barrier_gradient(set, kappa_, scale, gradient);
   evaluate_in_order(
-      int(friction_.size()), false,
+      int(friction_.size()), false, threads_,
       [&](int i) { return friction_energy(friction_[i], set.x, friction_eps_, 1); },
       [&](int i, const StencilEnergy& e) {
         add_stencil_gradient(mesh_, friction_[i].vertices, friction_[i].nv, e.grad, scale, gradient);
@@ -243,14 +250,14 @@ void IpcContactTerm::add_hessian(const VecX& q, double scale, std::vector<BodyBl
   const BarrierParams p = barrier_params(kappa_);
   BodyBlockAccumulator acc;
   evaluate_in_order(
-      int(set.stencils.size()), true,
+      int(set.stencils.size()), true, threads_,
       [&](int i) { return stencil_barrier(set.stencils[i], set.x, p, 2); },
       [&](int i, const StencilEnergy& e) {
         const ContactStencil& s = set.stencils[i];
         acc.add_stencil(mesh_, s.vertices, s.nv, e.hess, scale);
       });
   evaluate_in_order(
-      int(friction_.size()), false,
+      int(friction_.size()), false, threads_,
       [&](int i) { return friction_energy(friction_[i], set.x, friction_eps_, 2); },
       [&](int i, const StencilEnergy& e) {
         acc.add_stencil(mesh_, friction_[i].vertices, friction_[i].nv, e.hess, scale);

@@ -102,6 +102,9 @@ class IpcContactTerm : public EnergyTerm {
   void set_scripted(int body, bool scripted);
   bool scripted(int body) const { return scripted_.at(body) != 0; }
 
+  // Threads for the heavy per-stencil loops (the solver's worker pool); 0: all.
+  void set_threads(int threads);
+
   double kappa() const { return kappa_; }
   void set_kappa(double kappa);
   bool adaptive_kappa() const { return settings_.kappa <= 0.0; }
@@ -135,6 +138,7 @@ class IpcContactTerm : public EnergyTerm {
   contact::ContactTable table_;
   mutable contact::BroadPhase broad_phase_;  // a cache of refit BVHs (see above)
   std::vector<char> scripted_;  // per body, see set_scripted
+  int threads_ = 1;
   contact::ActiveSet active_;
   // The last set built for another q (line-search trials): update() at that q reuses it.
   mutable contact::ActiveSet last_built_;

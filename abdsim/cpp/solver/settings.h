@@ -24,7 +24,8 @@ struct SolverSettings {
   // step is still applied, so the error left is of second order in these numbers.
   double tol_translation = 0.01;  // m/s
   double tol_affine = 0.1;        // 1/s
-  int max_newton_iterations = 50;
+  // Contact steps where bodies settle on edges and corners can take tens of iterations.
+  int max_newton_iterations = 200;
 
   // Backtracking (Armijo) line search on Π. The first trial step is clipped to
   // ccd_safety * min_terms max_step when a term limits it (IPC's CCD filter).
@@ -48,7 +49,8 @@ struct SolverSettings {
 
   // Project the shape energy's Hessian to PSD (always wanted; off only for experiments).
   bool project_psd = true;
-  // OpenMP threads for the per-body loops; 0 = OpenMP's default. Results do not depend on it.
+  // Worker threads for the per-body and per-stencil loops; 0 = all hardware threads. Results
+  // do not depend on it.
   int num_threads = 0;
 };
 

@@ -14,11 +14,11 @@
 // bodies are independent and each body runs its own 12-dof Newton solve (the free-flight
 // fast path, in parallel over bodies).
 //
-// With terms (world_coupled.cpp), every body first runs that per-body solve as if free; the
-// solution is the Newton start. Terms that split by body (contact) say which bodies they
-// couple: bodies that nothing comes near along the step keep their free solution (they are
-// done), the others form islands of coupled bodies, each with its own CCD bound, line search
-// and convergence, solved together (one linear system, one contact query per iteration) in
+// With terms (world_coupled.cpp), every body first runs that per-body solve as if free.
+// Terms that split by body (contact) say which bodies they couple: bodies that nothing comes
+// near on the way to their free solution keep it (they are done), the others form islands of
+// coupled bodies that start where they are, each with its own CCD bound, line search and
+// convergence, solved together (one linear system, one contact query per iteration) in
 // lockstep. Islands merge as soon as a term links them.
 //
 // Kinematic bodies: held at their target (a hard constraint) when the move there is free of
@@ -125,7 +125,7 @@ class World {
   void place_kinematic_bodies(StepDiagnostics& d);
   double step_bounds(const VecX& x, const VecX& dq, const std::vector<unsigned char>& mask,
                      std::vector<unsigned char>& near, std::vector<BodyLink>& links);
-  void start_iterate(bool split, double c2, StepDiagnostics& d);
+  void start_iterate(bool split, StepDiagnostics& d);
   void initialize_contact_stiffness(double c2);
   // Π_b of one movable body without terms (kinetic or drive, plus c² shape); with g and H
   // (if non-null) its gradient and Hessian.
@@ -171,8 +171,8 @@ class World {
   VecX x_free_;
   std::vector<std::uint8_t> free_ok_;
   std::vector<int> parent_;
-  std::vector<std::uint8_t> frozen_, converged_, pending_, merged_;
-  VecX alpha_, island_E_, island_E_new_, island_slope_, body_E_, body_E_new_, bound_;
+  std::vector<std::uint8_t> frozen_, converged_, pending_, halved_;
+  VecX damping_, alpha_, island_E_, island_E_new_, island_slope_, body_E_, body_E_new_, bound_;
   BlockSystem system_;
   std::vector<BodyBlock> blocks_;
   StepDiagnostics diag_;

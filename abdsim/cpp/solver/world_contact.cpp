@@ -13,6 +13,7 @@ IpcContactTerm& World::enable_contact(const ContactSettings& settings) {
   for (int b = 0; b < n_; ++b) scene.bodies[b].q = q_.segment<12>(12 * b);
   auto term = std::make_shared<IpcContactTerm>(scene, settings);
   for (int b = 0; b < n_; ++b) term->set_scripted(b, kinematic_[b] != 0);
+  term->set_threads(threads_);
   term->check_initial(q_);
   contact_ = term;
   add_term(term);

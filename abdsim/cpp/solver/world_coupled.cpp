@@ -5,14 +5,15 @@
 //     solution x_free.
 //  2. Kinematic bodies go to their targets when that move is free of contact (CCD, the other
 //     bodies at rest); the others are driven by a stiff spring this step (world.h).
-//  3. Each movable body heads for x_free. Terms that split by body report, for that move,
-//     which bodies come within their reach (links) and how far each may go (CCD). Linked
-//     bodies form islands; each island moves by its own CCD-limited fraction. Islands that
-//     nothing comes near keep x_free: they are solved.
+//  3. Terms that split by body report, for the move of every body to x_free, which bodies
+//     come within their reach (links): linked bodies form islands. Bodies that nothing comes
+//     near keep x_free: they are solved. Islands start from where they are (IPC).
 //  4. Projected Newton on the remaining islands in lockstep: one assembled system and one
 //     contact query per iteration, but a CCD bound, Armijo line search and convergence test
 //     per island; a converged island stops moving; islands merge whenever a term links them
-//     (then they iterate again together).
+//     (then they iterate again together). Each step's rotations are taken exactly
+//     (rotation_exact_step), and an island whose steps Armijo keeps cutting gets
+//     Levenberg–Marquardt damping.
 // All reductions run over bodies in index order, so results do not depend on threads.
 #include <algorithm>
 #include <cmath>
@@ -29,6 +30,39 @@
 
 namespace abd {
 using namespace world_detail;
+
+namespace {
+
+// The Newton step of one body with its rotation taken exactly. Newton's model linearises
+// rotations: A + ΔA with ΔA = W A (W skew) leaves the rotations by O(|W|²), a stretch the
+// stiff shape energy punishes, so the line search cuts every step touching a soft rotational
+// mode (bodies rolling on contacts) and Newton creeps. Writing the increment of A as
+// F = I + ΔA A⁻¹ = I + W + S (W skew, S symmetric), the step is replaced by one to
+// A' = exp(W) (I + S) A, keeping the stretch S and the centre-of-mass motion of the Newton
+// step, and agreeing with it to first order (so the converged step is unchanged to second
+// order). The solver searches along the straight segment to that point.
+Vec12 rotation_exact_step(const Vec12& x, const Vec12& dq, const Vec3& center) {
+  const Mat3 A = affine_A(x);
+  Mat3 A_inv;
+  double det = 0.0;
+  bool invertible = false;
+  A.computeInverseAndDetWithCheck(A_inv, det, invertible, 1e-12);
+  if (!invertible) return dq;
+  const Mat3 dA = affine_A(dq);
+  const Mat3 G = dA * A_inv;
+  const Mat3 W = 0.5 * (G - G.transpose());
+  const Mat3 S = 0.5 * (G + G.transpose());
+  const Vec3 w(W(2, 1), W(0, 2), W(1, 0));
+  const double theta = w.norm();
+  if (!(theta > 1e-12) || theta > 1.0) return dq;  // nothing to correct, or too far out
+  const Mat3 K = W / theta;
+  const Mat3 R = Mat3::Identity() + std::sin(theta) * K + (1.0 - std::cos(theta)) * K * K;
+  const Mat3 A_new = R * (Mat3::Identity() + S) * A;
+  const Vec3 com_new = (A + dA) * center + affine_p(x) + dq.head<3>();
+  return q_from(A_new, com_new - A_new * center) - x;
+}
+
+}  // namespace
 
 int World::island(int b) {
   while (parent_[b] != b) {
@@ -50,6 +84,7 @@ bool World::merge_islands(int a, int b) {
   converged_[a] = converged_[b] = 0;
   frozen_[a] = frozen_[b] = 0;
   pending_[a] = pending_[a] || pending_[b];
+  damping_[a] = std::max(damping_[a], damping_[b]);
   return true;
 }
 
@@ -181,10 +216,12 @@ void World::place_kinematic_bodies(StepDiagnostics& d) {
   }
 }
 
-// The Newton start: every movable body towards its free solution, island by island as far as
-// the terms allow; islands that nothing comes near are done (frozen).
-void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
-  (void)c2;
+// The Newton start. Bodies that nothing comes near on their way to their free solution (no
+// term reaches them anywhere on the straight move) are done: they take it and are frozen.
+// Every island with something near starts where it is (IPC's start, always feasible): a
+// start clipped by CCD short of the free solution would sit deep in the barrier, where
+// Newton on a log barrier only creeps back out.
+void World::start_iterate(bool split, StepDiagnostics& d) {
   dq_.setZero(12 * n_);
   for (int b = 0; b < n_; ++b)
     if (movable_[b]) dq_.segment<12>(12 * b) = x_free_.segment<12>(12 * b) - x_.segment<12>(12 * b);
@@ -202,39 +239,34 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   std::vector<BodyLink> links;
   const double global = step_bounds(x_, dq_, movable_, near, links);
   for (const BodyLink& l : links) merge_islands(l.a, l.b);
-  for (int b = 0; b < n_; ++b) alpha_[b] = 1.0;
+  std::vector<unsigned char> stays(n_, 0);  // per island root: start where it is
   for (int b = 0; b < n_; ++b)
-    if (movable_[b]) {
-      const int r = island(b);
-      alpha_[r] = std::min({alpha_[r], bound_[b], global});
-    }
+    if (movable_[b] && (near[b] || bound_[b] < 1.0 || global < 1.0)) stays[island(b)] = 1;
   for (int b = 0; b < n_; ++b) {
     if (!movable_[b]) continue;
-    const double a = alpha_[island(b)];
-    d.min_term_max_step = std::min(d.min_term_max_step, a);
-    if (a >= 1.0)
-      x_.segment<12>(12 * b) = x_free_.segment<12>(12 * b);
-    else
-      x_.segment<12>(12 * b) += settings_.ccd_safety * a * dq_.segment<12>(12 * b);
+    const double bound = std::min(bound_[b], global);
+    d.min_term_max_step = std::min(d.min_term_max_step, bound);
+    if (!stays[island(b)]) x_.segment<12>(12 * b) = x_free_.segment<12>(12 * b);
   }
   for (const auto& t : terms_) t->update(x_);
   links.clear();
   for (const auto& t : terms_) t->body_links(movable_, links);
   for (const BodyLink& l : links) merge_islands(l.a, l.b);
   if (!split) return;
-  // Islands with nothing near along the whole move, at their free solution: solved.
+  // Islands with nothing near, at their free solution: solved.
   std::vector<unsigned char> free_island(n_, 1);
   for (int b = 0; b < n_; ++b)
-    if (movable_[b] && (near[b] || !free_ok_[b] || driven_[b] || alpha_[island(b)] < 1.0))
+    if (movable_[b] && (near[b] || stays[island(b)] || !free_ok_[b] || driven_[b]))
       free_island[island(b)] = 0;
   for (int b = 0; b < n_; ++b)
     if (movable_[b] && free_island[island(b)]) frozen_[b] = converged_[b] = 1;
 }
 
-// IPC's adaptive κ: balance the barrier's gradient against the rest of Π's at the start
-// iterate, whenever contact is active there. κ never decreases during a simulation (a
-// barrier that softened between steps would let resting bodies sink); update() may still
-// double it within a step.
+// IPC's adaptive κ: at the start of every step with active contact, balance the barrier's
+// gradient against the rest of Π's at the start iterate (clamped to [κ_min, κ_max]); within
+// the step, update() doubles it while a gap keeps closing below 1e-9 × the scene size. (A κ
+// that only ever grew ended at κ_max after the first hard landing, and the stiffer barrier
+// took two to three times the Newton iterations from then on.)
 void World::initialize_contact_stiffness(double c2) {
   if (!contact_ || !contact_->adaptive_kappa()) return;
   const ContactCounts c = contact_->counts();
@@ -250,9 +282,7 @@ void World::initialize_contact_stiffness(double c2) {
     if (t.get() != contact_.get()) t->add_gradient(x_, c2, grad_rest);
   for (int b = 0; b < n_; ++b)
     if (!movable_[b]) grad_rest.segment<12>(12 * b).setZero();
-  const double previous = contact_->kappa();
   contact_->initialize_kappa(x_, grad_rest);
-  if (contact_->kappa() < previous) contact_->set_kappa(previous);
 }
 
 void World::solve_coupled(double c2, StepDiagnostics& d) {
@@ -274,6 +304,8 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   converged_.assign(n_, 0);
   pending_.assign(n_, 0);
   alpha_.setOnes(n_);
+  damping_.setZero(n_);
+  halved_.assign(n_, 0);
   bound_.setOnes(n_);
 
   // 1. Free per-body solutions.
@@ -294,7 +326,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   place_kinematic_bodies(d);
   movable_.assign(n_, 0);
   for (int b = 0; b < n_; ++b) movable_[b] = !constrained_[b];
-  start_iterate(split, c2, d);
+  start_iterate(split, d);
   initialize_contact_stiffness(c2);
 
   // 4. Newton, island by island in lockstep.
@@ -342,6 +374,8 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       }
       Vec12 g;
       body_energy(b, x_.segment<12>(12 * b), c2, &g, &H);
+      const double nu = damping_[island(b)];
+      if (nu > 0.0) H += nu * dyadic_[b].matrix();
       grad_.segment<12>(12 * b) = g;
     });
     blocks_.clear();
@@ -397,8 +431,27 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     }
     for (int b = 0; b < n_; ++b)
       if (!inactive[b] && island(b) == b)
-        converged_[b] = island_st[b] <= settings_.tol_translation &&
+        converged_[b] = damping_[b] == 0.0 && island_st[b] <= settings_.tol_translation &&
                         island_sa[b] <= settings_.tol_affine;
+
+    // Rotations taken exactly (see rotation_exact_step); an island for which that is not
+    // a descent direction keeps the plain Newton step.
+    VecX dq_newton = dq_;
+    parallel_for(n_, threads_, [&](int b) {
+      if (inactive[b]) return;
+      dq_.segment<12>(12 * b) = rotation_exact_step(x_.segment<12>(12 * b),
+                                                    dq_newton.segment<12>(12 * b),
+                                                    dyadic_[b].m_x_bar / dyadic_[b].m);
+    });
+    {
+      VecX slope_exact = VecX::Zero(n_);
+      for (int b = 0; b < n_; ++b)
+        if (!inactive[b])
+          slope_exact[island(b)] += grad_.segment<12>(12 * b).dot(dq_.segment<12>(12 * b));
+      for (int b = 0; b < n_; ++b)
+        if (!inactive[b] && !(slope_exact[island(b)] < 0.0))
+          dq_.segment<12>(12 * b) = dq_newton.segment<12>(12 * b);
+    }
 
     // Step bounds (CCD) and links along the direction.
     std::vector<unsigned char> near;
@@ -419,6 +472,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
         d.min_term_max_step = std::min(d.min_term_max_step, alpha_[b]);
         if (alpha_[b] < 1.0) alpha_[b] *= settings_.ccd_safety;
         pending_[b] = 1;
+        halved_[b] = 0;
       }
 
     // Armijo line search, per island, all islands per contact query.
@@ -474,6 +528,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
           failed = true;
         } else {
           alpha_[r] *= 0.5;
+          halved_[r] = 1;
           any_pending = true;
         }
       }
@@ -506,6 +561,17 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     for (int r = 0; r < n_; ++r)
       if (!inactive[r] && island(r) == r) min_alpha = std::min(min_alpha, alpha_[r]);
     d.line_search_alphas.push_back(min_alpha);
+    // Levenberg–Marquardt damping per island (ν M added to the Newton matrix): raised when
+    // Armijo had to cut the step (the quadratic model overshot, typically a soft rotation
+    // of a body on few contacts), relaxed when it did not. An island only converges
+    // undamped.
+    for (int r = 0; r < n_; ++r) {
+      if (inactive[r] || island(r) != r) continue;
+      if (halved_[r])
+        damping_[r] = damping_[r] > 0.0 ? std::min(2.0 * damping_[r], 1e6) : 1.0;
+      else
+        damping_[r] = damping_[r] > 1e-3 ? 0.25 * damping_[r] : 0.0;
+    }
     x_.swap(trial_);
     body_E_.swap(body_E_new_);
     rest = rest_new;

@@ -43,41 +43,66 @@ std::vector<Vec3> BroadPhase::body_slice(const std::vector<Vec3>& x, int b) cons
 }
 
 Candidates BroadPhase::query(const std::vector<Vec3>& x, const BroadPhaseQuery& q) {
-  for (int b = 0; b < mesh_.num_bodies(); ++b) bvhs_[b]->refit(body_slice(x, b));
-  return collect(q);
+  return collect(x, nullptr, q);
 }
 
 Candidates BroadPhase::query_swept(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1,
                                    const BroadPhaseQuery& q) {
-  for (int b = 0; b < mesh_.num_bodies(); ++b)
-    bvhs_[b]->refit_swept(body_slice(x0, b), body_slice(x1, b));
-  return collect(q);
+  return collect(x0, &x1, q);
 }
 
-Candidates BroadPhase::collect(const BroadPhaseQuery& q) {
+void BroadPhase::fit(int b, const std::vector<Vec3>& x0, const std::vector<Vec3>* x1) {
+  if (fitted_[b]) return;
+  if (x1)
+    bvhs_[b]->refit_swept(body_slice(x0, b), body_slice(*x1, b));
+  else
+    bvhs_[b]->refit(body_slice(x0, b));
+  fitted_[b] = 1;
+}
+
+Candidates BroadPhase::collect(const std::vector<Vec3>& x0, const std::vector<Vec3>* x1,
+                               const BroadPhaseQuery& q) {
   const int n = mesh_.num_bodies();
   Candidates out;
-  // Each body's box grows by half the margin plus its own thickness, so two boxes overlap
-  // whenever their bodies may be within margin + r_a + r_b.
-  std::vector<coal::AABB> boxes;
+  fitted_.assign(static_cast<size_t>(n), 0);
+  // Each body's box (around its vertices, at x0 and x1 when swept) grows by half the margin
+  // plus its own thickness, so two boxes overlap whenever their bodies may be within
+  // margin + r_a + r_b.
+  std::vector<coal::AABB> boxes(static_cast<size_t>(n));
   for (int b = 0; b < n; ++b) {
-    coal::AABB box = bvhs_[b]->bounds();
+    Vec3 lo = x0[mesh_.vertex_offset[b]], hi = lo;
+    for (int v = mesh_.vertex_offset[b]; v < mesh_.vertex_offset[b + 1]; ++v) {
+      lo = lo.cwiseMin(x0[v]);
+      hi = hi.cwiseMax(x0[v]);
+      if (x1) {
+        lo = lo.cwiseMin((*x1)[v]);
+        hi = hi.cwiseMax((*x1)[v]);
+      }
+    }
     const double grow = 0.5 * q.margin + mesh_.body_thickness[b];
-    box.min_.array() -= grow;
-    box.max_.array() += grow;
-    boxes.push_back(box);
+    boxes[b] = coal::AABB(Vec3(lo.array() - grow), Vec3(hi.array() + grow));
   }
   for (const auto& [a, b] : body_pairs_.overlapping(boxes))
-    if (may_collide_(a, b))
+    if (may_collide_(a, b)) {
+      fit(a, x0, x1);
+      fit(b, x0, x1);
       collect_pair(a, b, q.margin + mesh_.body_thickness[a] + mesh_.body_thickness[b], q, out);
+    }
   for (int b = 0; b < n; ++b) {
-    if (mesh_.self_collision[b] && may_collide_(b, b))
+    if (mesh_.self_collision[b] && may_collide_(b, b)) {
+      fit(b, x0, x1);
       collect_self(b, q.margin + 2.0 * mesh_.body_thickness[b], q, out);
-    if (q.ground && may_collide_(b, -1)) {
-      const int v0 = mesh_.vertex_offset[b];
-      for_each_leaf_below(*bvhs_[b]->vertices(),
-                          q.ground_height + q.margin + mesh_.body_thickness[b],
-                          [&](int i) { out.point_ground.push_back(v0 + i); });
+    }
+    const double z_max = q.ground_height + q.margin + mesh_.body_thickness[b];
+    // boxes[b].min_ z is the lowest vertex minus half the margin and the thickness. The
+    // ground needs no tree: a pass over the body's vertices (lowest of x0, x1) is what a
+    // refit plus a descent would cost anyway.
+    if (q.ground && boxes[b].min_[2] + 0.5 * q.margin + mesh_.body_thickness[b] <= z_max &&
+        may_collide_(b, -1)) {
+      for (int v = mesh_.vertex_offset[b]; v < mesh_.vertex_offset[b + 1]; ++v) {
+        const double z = x1 ? std::min(x0[v].z(), (*x1)[v].z()) : x0[v].z();
+        if (z <= z_max) out.point_ground.push_back(v);
+      }
     }
   }
   sort_unique(out.point_triangle);

@@ -5,7 +5,8 @@
 //  2. primitives: per-body coal BVHs refit to world space (body_bvh.h) are traversed against
 //     each other (bvh_traversal.h): vertices × triangles both ways and edges × edges.
 // A body is paired with itself only when its geometry has self_collision = 1 (then pairs
-// sharing a vertex are skipped). The ground is a height test on the vertex trees.
+// sharing a vertex are skipped). The ground is a height test on the vertices of the bodies
+// whose box reaches it.
 //
 // The result is a superset of the pairs within the margin (box tests are conservative); the
 // contact term computes exact distances. Output is sorted, so it is deterministic.
@@ -48,7 +49,12 @@ class BroadPhase {
                          const BroadPhaseQuery& q);
 
  private:
-  Candidates collect(const BroadPhaseQuery& q);
+  // Body boxes come straight from the vertex positions; a body's three BVHs are refit (to
+  // x0, or swept x0 → x1) only when some pair, self-collision or the ground needs them, so
+  // bodies far from everything cost one pass over their vertices.
+  Candidates collect(const std::vector<Vec3>& x0, const std::vector<Vec3>* x1,
+                     const BroadPhaseQuery& q);
+  void fit(int b, const std::vector<Vec3>& x0, const std::vector<Vec3>* x1);
   void collect_pair(int a, int b, double margin, const BroadPhaseQuery& q, Candidates& out) const;
   void collect_self(int a, double margin, const BroadPhaseQuery& q, Candidates& out) const;
   std::vector<Vec3> body_slice(const std::vector<Vec3>& x, int b) const;
@@ -56,6 +62,7 @@ class BroadPhase {
   const ContactMesh& mesh_;
   BodyFilter may_collide_;
   std::vector<std::unique_ptr<BodyBvh>> bvhs_;
+  std::vector<char> fitted_;  // per query: BVHs refit to this query's positions
   BodyPairFinder body_pairs_;
 };
 

@@ -30,19 +30,4 @@ void for_each_close_leaf_pair(const Bvh& a, const Bvh& b, double margin,
   }
 }
 
-void for_each_leaf_below(const Bvh& a, double z_max, const std::function<void(int)>& emit) {
-  std::vector<int> stack{0};
-  while (!stack.empty()) {
-    const auto& node = a.getBV(unsigned(stack.back()));
-    stack.pop_back();
-    if (node.bv.min_[2] > z_max) continue;
-    if (node.isLeaf()) {
-      emit(node.primitiveId());
-    } else {
-      stack.push_back(node.rightChild());
-      stack.push_back(node.leftChild());
-    }
-  }
-}
-
 }  // namespace abd::contact

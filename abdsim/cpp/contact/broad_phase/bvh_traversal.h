@@ -22,7 +22,4 @@ inline bool boxes_within(const coal::AABB& a, const coal::AABB& b, double margin
 void for_each_close_leaf_pair(const Bvh& a, const Bvh& b, double margin,
                               const std::function<void(int, int)>& emit);
 
-// emit(i) for every leaf of a whose box reaches down to z <= z_max (the ground test).
-void for_each_leaf_below(const Bvh& a, double z_max, const std::function<void(int)>& emit);
-
 }  // namespace abd::contact
