@@ -94,3 +94,79 @@ class Scenes:
 @pytest.fixture(scope="session")
 def scenes():
     return Scenes
+
+
+class WorldContact:
+    """Scenes through the public Scene/World API, and an independent intersection check with
+    coal's Python bindings (triangle-level BVH collision and distance, world-space meshes)."""
+
+    @staticmethod
+    def solid(mesh, n=1, kappa=1e8, density=1e3):
+        import abdsim
+
+        sc = abdsim.geometry.from_trimesh(mesh)
+        sc.instances.resize(n)
+        abdsim.AffineBodyConstitution("OrthoPotential").apply_to(
+            sc, kappa=kappa, mass_density=density
+        )
+        return sc
+
+    @staticmethod
+    def box(extents, n=1, **kw):
+        import trimesh
+
+        return WorldContact.solid(trimesh.creation.box(extents=extents), n, **kw)
+
+    @staticmethod
+    def place(sc, positions, rotations=None):
+        T = np.tile(np.eye(4), (len(positions), 1, 1))
+        T[:, :3, 3] = positions
+        if rotations is not None:
+            T[:, :3, :3] = rotations
+        sc.transforms = T
+
+    @staticmethod
+    def coal_model(V, F):
+        import coal
+
+        m = coal.BVHModelOBBRSS()
+        m.beginModel(len(F), len(V))
+        m.addVertices(np.ascontiguousarray(V, dtype=float))
+        m.addTriangles(np.ascontiguousarray(F, dtype=np.int64))
+        m.endModel()
+        return coal.CollisionObject(m, coal.Transform3s())
+
+    @staticmethod
+    def coal_check(world, skip=()):
+        """Every pair of bodies with triangles (except `skip`, pairs of body indices): number of
+        intersecting pairs (coal.collide) and the smallest distance (coal.distance); with a
+        ground, the lowest vertex height above it. Independent of abdsim's contact code."""
+        import coal
+
+        objects, body_ids, low = [], [], np.inf
+        ground = world.scene.ground
+        for h in world.scene.handles:
+            F = np.asarray(h.sc.triangles)
+            V = world.vertices(h)
+            for k in range(len(h)):
+                if ground is not None and not world.is_kinematic(h.start + k):
+                    low = min(low, V[k][:, 2].min() - ground.height)
+                if len(F):
+                    objects.append(WorldContact.coal_model(V[k], F))
+                    body_ids.append(h.start + k)
+        skip = {tuple(sorted(p)) for p in skip}
+        hits, d_min = 0, np.inf
+        creq, dreq = coal.CollisionRequest(), coal.DistanceRequest()
+        for i in range(len(objects)):
+            for j in range(i + 1, len(objects)):
+                if (body_ids[i], body_ids[j]) in skip:
+                    continue
+                cres, dres = coal.CollisionResult(), coal.DistanceResult()
+                hits += bool(coal.collide(objects[i], objects[j], creq, cres))
+                d_min = min(d_min, coal.distance(objects[i], objects[j], dreq, dres))
+        return hits, d_min, low
+
+
+@pytest.fixture(scope="session")
+def wc():
+    return WorldContact
