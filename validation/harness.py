@@ -127,7 +127,9 @@ def validate(
     # contact distances); otherwise the report says the phase was not compared.
     has_contact = callable(getattr(setup.world, "min_contact_distance", None))
     if has_contact and np.isfinite(t_contact) and t_contact < duration:
-        c_checks, contact = contact_checks(abd, mj, tol)
+        masses = np.array([m for m, _, _ in setup.rigid_bodies()])
+        d_hat = float(getattr(setup.world.scene.settings, "d_hat", 0.0))
+        c_checks, contact = contact_checks(abd, mj, tol, masses, d_hat)
         checks += c_checks
 
     plot_files = {
