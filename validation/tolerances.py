@@ -33,7 +33,7 @@ class Tolerances:
     rest_speed: float = 0.05
     #: max difference between abdsim's and MuJoCo's first-contact times [s] (abdsim's
     #: contact starts when a gap falls below d̂, MuJoCo's at zero distance)
-    first_contact_time: float = 0.02
+    first_contact_time: float = 0.03
     #: smallest admissible abdsim contact distance [m] (abdsim is intersection-free: > 0)
     min_contact_distance: float = 0.0
 
