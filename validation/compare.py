@@ -140,37 +140,59 @@ def free_flight_checks(
     return checks, {"t_free": float(t_free), "energy_drift": drift_E, "bodies": per_body}
 
 
-def contact_checks(abd: Trajectory, mj: Trajectory, tol: Tolerances) -> tuple[list[Check], dict]:
-    """What both models claim once bodies touch: rest heights, first contact, gaps."""
+def contact_checks(
+    abd: Trajectory, mj: Trajectory, tol: Tolerances, masses: np.ndarray, d_hat: float
+) -> tuple[list[Check], dict]:
+    """What both models claim once bodies touch.
+
+    * first contact: abdsim's first gap below d̂ against MuJoCo's first contact;
+    * abdsim's smallest gap stays positive (intersection-free);
+    * final heights, only for bodies at rest at the end in both simulators (contact models
+      differ in restitution: abdsim's IPC barrier with BDF2 is nearly elastic, MuJoCo's
+      default soft contact is critically damped, so bouncing bodies are reported, not
+      asserted).
+    """
     checks: list[Check] = []
     rest_abd, rest_mj = abd.com[-1, :, 2], mj.com[-1, :, 2]
-    speed_abd = np.linalg.norm(abd.linear_momentum[-1], axis=-1)
-    speed_mj = np.linalg.norm(mj.linear_momentum[-1], axis=-1)
-    min_gap = (
-        float(np.nanmin(abd.contact_distance))
-        if np.isfinite(abd.contact_distance).any()
-        else float("nan")
-    )
-    max_pen = (
-        float(-np.nanmin(mj.contact_distance)) if np.isfinite(mj.contact_distance).any() else 0.0
-    )
+    speed_abd = np.linalg.norm(abd.linear_momentum[-1], axis=-1) / masses
+    speed_mj = np.linalg.norm(mj.linear_momentum[-1], axis=-1) / masses
+    has_gap = np.isfinite(abd.contact_distance).any()
+    min_gap = float(np.nanmin(abd.contact_distance)) if has_gap else float("nan")
+    has_pen = np.isfinite(mj.contact_distance).any()
+    max_pen = float(-np.nanmin(mj.contact_distance)) if has_pen else 0.0
+    t_abd = abd.first_contact_time(d_hat)
+    t_mj = mj.first_contact_time()
     summary = {
-        "first_contact_abdsim": abd.first_contact_time(abd.extra.get("contact_threshold", 0.0)),
-        "first_contact_mujoco": mj.first_contact_time(),
+        "first_contact_abdsim": t_abd,
+        "first_contact_mujoco": t_mj,
         "abdsim_min_contact_distance": min_gap,
         "mujoco_max_penetration": max_pen,
+        "d_hat": d_hat,
         "bodies": {},
     }
+    if np.isfinite(t_mj):
+        checks.append(
+            Check(
+                "first contact time vs MuJoCo [s]",
+                "all",
+                abs(t_abd - t_mj),
+                tol.first_contact_time,
+                detail=f"abdsim {t_abd:.3f} s, MuJoCo {t_mj:.3f} s",
+            )
+        )
     for i, name in enumerate(abd.names):
+        at_rest = speed_abd[i] < tol.rest_speed and speed_mj[i] < tol.rest_speed
         dz = abs(float(rest_abd[i] - rest_mj[i]))
-        checks.append(Check("final centre height vs MuJoCo [m]", name, dz, tol.rest_height))
+        if at_rest:
+            checks.append(Check("final centre height vs MuJoCo [m]", name, dz, tol.rest_height))
         summary["bodies"][name] = {
             "rest_height_abdsim": float(rest_abd[i]),
             "rest_height_mujoco": float(rest_mj[i]),
-            "final_momentum_abdsim": float(speed_abd[i]),
-            "final_momentum_mujoco": float(speed_mj[i]),
+            "final_speed_abdsim": float(speed_abd[i]),
+            "final_speed_mujoco": float(speed_mj[i]),
+            "at_rest_in_both": bool(at_rest),
         }
-    if np.isfinite(min_gap):
+    if has_gap:
         checks.append(
             Check(
                 "abdsim minimum contact distance [m]",

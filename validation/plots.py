@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+import threading
 from pathlib import Path
 
 import matplotlib
@@ -12,11 +14,25 @@ import numpy as np  # noqa: E402
 
 from abdsim.validation.trajectory import Trajectory, rotation_angle  # noqa: E402
 
+# matplotlib (pyplot state, mathtext's parser) is not thread-safe; sweeps may run cases on
+# threads, so every figure is drawn under one lock.
+_LOCK = threading.Lock()
+
+
+def _locked(fn):
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        with _LOCK:
+            return fn(*args, **kwargs)
+
+    return wrapper
+
 
 def _common(a: Trajectory, b: Trajectory) -> int:
     return min(len(a.time), len(b.time))
 
 
+@_locked
 def plot_heights(abd: Trajectory, mj: Trajectory, path: Path) -> Path:
     """Centre-of-mass height of every body: abdsim solid, MuJoCo dashed."""
     fig, ax = plt.subplots(figsize=(8, 4.5))
@@ -31,6 +47,7 @@ def plot_heights(abd: Trajectory, mj: Trajectory, path: Path) -> Path:
     return _save(fig, path)
 
 
+@_locked
 def plot_free_flight_errors(
     abd: Trajectory, mj: Trajectory, pin: Trajectory | None, t_free: float, path: Path
 ) -> Path:
@@ -63,6 +80,7 @@ def plot_free_flight_errors(
     return _save(fig, path)
 
 
+@_locked
 def plot_conservation(trajs: list[Trajectory], t_free: float, path: Path) -> Path:
     """Energy and total angular momentum magnitude of each simulator."""
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
@@ -80,6 +98,7 @@ def plot_conservation(trajs: list[Trajectory], t_free: float, path: Path) -> Pat
     return _save(fig, path)
 
 
+@_locked
 def plot_contact(abd: Trajectory, mj: Trajectory, path: Path) -> Path:
     """abdsim's minimum contact gap vs MuJoCo's deepest penetration."""
     fig, ax = plt.subplots(figsize=(8, 4))

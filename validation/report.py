@@ -158,22 +158,25 @@ def write_report(path: Path, metrics: dict, checks: list[Check], plots: dict[str
             "contact allows overlap)",
             "",
             "| body | final height abdsim [m] | final height MuJoCo [m] | "
-            "final momentum abdsim | final momentum MuJoCo |",
-            "|---|---|---|---|---|",
+            "final speed abdsim [m/s] | final speed MuJoCo [m/s] | at rest in both |",
+            "|---|---|---|---|---|---|",
         ]
         for name, b in c["bodies"].items():
             lines.append(
                 f"| {name} | {b['rest_height_abdsim']:.5f} | {b['rest_height_mujoco']:.5f}"
-                f" | {_fmt(b['final_momentum_abdsim'])} | "
-                f"{_fmt(b['final_momentum_mujoco'])} |"
+                f" | {_fmt(b['final_speed_abdsim'])} | {_fmt(b['final_speed_mujoco'])} | "
+                f"{'yes' if b['at_rest_in_both'] else 'no'} |"
             )
         lines += [
             "",
             "Contact models differ by design: abdsim keeps a positive gap (IPC barrier, "
             "activation distance d̂) and its friction is smoothed (creep below ε_v); MuJoCo's "
-            "soft contacts penetrate slightly and its restitution follows solref. Rest heights"
-            " therefore differ by up to d̂ plus MuJoCo's penetration; bounce timing and "
-            "sliding distances are compared in the plots, not asserted.",
+            "soft contacts penetrate slightly. Restitution differs most: the IPC barrier is "
+            "conservative and BDF2 damps little, so abdsim's bodies bounce nearly elastically, "
+            "while MuJoCo's default contact (solref 0.02, damping ratio 1) is critically damped."
+            " Final heights are therefore asserted only for bodies at rest in both simulators "
+            "(they may differ by up to d̂ plus MuJoCo's penetration); the others are reported "
+            "and plotted.",
             "",
         ]
         if plots.get("contact"):

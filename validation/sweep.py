@@ -39,13 +39,15 @@ def run_case(case: SweepCase) -> dict:
             progress=False,
         )
         worst = max(res.checks, key=lambda c: 0 if c.passed else 1)
-        ff = res.metrics["free_flight"]["bodies"]
+        ff = res.metrics["free_flight"].get("bodies", {})
         return {
             **asdict(case),
             "passed": res.passed,
             "checks": len(res.checks),
             "failed": len(res.failed),
-            "max_position_error": max(b["position_error_mujoco"] for b in ff.values()),
+            "max_position_error": max(
+                (b["position_error_mujoco"] for b in ff.values()), default=float("nan")
+            ),
             "abdsim_over_mujoco": res.metrics["timing"]["abdsim_over_mujoco"],
             "first_failure": None if res.passed else f"{worst.name} ({worst.body})",
             "error": None,

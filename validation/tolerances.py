@@ -26,8 +26,14 @@ class Tolerances:
     angular_momentum_drift: float = 1e-3
     #: max relative drift of the total energy during free flight
     energy_drift: float = 1e-3
-    #: max difference of each body's final centre-of-mass height to MuJoCo's [m]
+    #: max difference of each body's final centre-of-mass height to MuJoCo's [m], checked
+    #: for bodies that are at rest at the end in both simulators
     rest_height: float = 5e-3
+    #: speed below which a body counts as at rest [m/s]
+    rest_speed: float = 0.05
+    #: max difference between abdsim's and MuJoCo's first-contact times [s] (abdsim's
+    #: contact starts when a gap falls below d̂, MuJoCo's at zero distance)
+    first_contact_time: float = 0.03
     #: smallest admissible abdsim contact distance [m] (abdsim is intersection-free: > 0)
     min_contact_distance: float = 0.0
 
