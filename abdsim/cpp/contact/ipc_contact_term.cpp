@@ -308,6 +308,12 @@ void IpcContactTerm::add_body_values(const VecX& q, const std::vector<unsigned c
   }
 }
 
+void IpcContactTerm::mark_friction_bodies(std::vector<unsigned char>& flags) const {
+  for (const FrictionStencil& f : friction_)
+    for (int b : stencil_bodies(f.vertices, f.nv))
+      if (b >= 0 && b < int(flags.size())) flags[size_t(b)] = 1;
+}
+
 void IpcContactTerm::body_links(const std::vector<unsigned char>& movable,
                                 std::vector<BodyLink>& links) const {
   auto link = [&](const std::array<int, 2>& b) {

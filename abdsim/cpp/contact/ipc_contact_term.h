@@ -113,6 +113,9 @@ class IpcContactTerm : public EnergyTerm {
   double initialize_kappa(const VecX& q, const VecX& grad_rest);
   contact::BarrierStiffness stiffness_bounds() const { return {kappa_, kappa_min_, kappa_max_}; }
 
+  // Sets flags[b] = 1 for every body in a lagged friction pair of this step.
+  void mark_friction_bodies(std::vector<unsigned char>& flags) const;
+
   // Diagnostics about the last update() and begin_step().
   ContactCounts counts() const;
   const std::vector<contact::ContactStencil>& active_stencils() const { return active_.stencils; }

@@ -172,6 +172,8 @@ class World {
   std::vector<std::uint8_t> free_ok_;
   std::vector<int> parent_;
   std::vector<std::uint8_t> frozen_, converged_, pending_, halved_;
+  VecX tol_translation_, tol_affine_;  // this step's Newton tolerances per body
+  std::vector<double> radius_;          // largest distance of a vertex from the centre of mass
   VecX damping_, alpha_, island_E_, island_E_new_, island_slope_, body_E_, body_E_new_, bound_;
   BlockSystem system_;
   std::vector<BodyBlock> blocks_;

@@ -321,6 +321,24 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   });
   for (int b = 0; b < n_; ++b) d.total_body_iterations += free_iterations[b];
 
+  // Newton tolerances per body. Static friction is a spring of stiffness μλ / (ε_v h): a
+  // force it cannot hold moves a Newton step of only ~ε_v h before the contact slides, so
+  // below ε_v in velocity units a step tolerance cannot tell sticking from the onset of
+  // sliding. Bodies with lagged friction this step converge to 0.1 ε_v (translation) and
+  // 0.1 ε_v / radius (affine) at most.
+  tol_translation_.setConstant(n_, settings_.tol_translation);
+  tol_affine_.setConstant(n_, settings_.tol_affine);
+  if (contact_) {
+    std::vector<unsigned char> rubbing(n_, 0);
+    contact_->mark_friction_bodies(rubbing);
+    const double tol = 0.1 * contact_->settings().eps_v;
+    for (int b = 0; b < n_; ++b)
+      if (rubbing[b]) {
+        tol_translation_[b] = std::min(tol_translation_[b], tol);
+        tol_affine_[b] = std::min(tol_affine_[b], tol / radius_[b]);
+      }
+  }
+
   // 2. Kinematic bodies; 3. the start iterate.
   x_ = q_;
   place_kinematic_bodies(d);
@@ -415,9 +433,10 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     }
     if (!dq_.allFinite()) throw SolverError("the Newton direction is not finite");
 
-    // Per-island convergence test on the direction.
+    // Per-island convergence test on the direction, relative to each body's tolerances.
     island_st.setZero();
     island_sa.setZero();
+    VecX island_ratio = VecX::Zero(n_);
     d.step_translation = d.step_affine = 0.0;
     for (int b = 0; b < n_; ++b) {
       if (inactive[b]) continue;
@@ -426,13 +445,13 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       const int r = island(b);
       island_st[r] = std::max(island_st[r], st);
       island_sa[r] = std::max(island_sa[r], sa);
+      island_ratio[r] = std::max({island_ratio[r], st / tol_translation_[b], sa / tol_affine_[b]});
       d.step_translation = std::max(d.step_translation, st);
       d.step_affine = std::max(d.step_affine, sa);
     }
     for (int b = 0; b < n_; ++b)
       if (!inactive[b] && island(b) == b)
-        converged_[b] = damping_[b] == 0.0 && island_st[b] <= settings_.tol_translation &&
-                        island_sa[b] <= settings_.tol_affine;
+        converged_[b] = damping_[b] == 0.0 && island_ratio[b] <= 1.0;
 
     // Rotations taken exactly (see rotation_exact_step); an island for which that is not
     // a descent direction keeps the plain Newton step.
