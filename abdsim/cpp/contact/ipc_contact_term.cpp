@@ -37,10 +37,13 @@ template <class Eval, class Consume>
 void evaluate_in_order(int n, bool parallel, int threads, const Eval& eval,
                        const Consume& consume) {
   constexpr int kChunk = 4096;
-  std::vector<StencilEnergy> results;
+  // Reused between calls: a StencilEnergy holds a 12x12 matrix, too big to construct afresh
+  // for every stencil of every evaluation.
+  thread_local std::vector<StencilEnergy> buffer;
+  std::vector<StencilEnergy>& results = buffer;  // the calling thread's, also in the workers
   for (int begin = 0; begin < n; begin += kChunk) {
     const int end = std::min(n, begin + kChunk);
-    results.resize(size_t(end - begin));
+    if (results.size() < size_t(end - begin)) results.resize(size_t(end - begin));
     for_each_stencil(end - begin, parallel && end - begin >= kMinParallelHessians, threads,
                      [&](int k) { results[size_t(k)] = eval(begin + k); });
     for (int i = begin; i < end; ++i) consume(i, results[size_t(i - begin)]);
@@ -245,6 +248,19 @@ void IpcContactTerm::add_gradient(const VecX& q, double scale, VecX& gradient) c
 }
 
 void IpcContactTerm::add_hessian(const VecX& q, double scale, std::vector<BodyBlock>& blocks) const {
+  add_derivatives(q, scale, nullptr, blocks);
+}
+
+void IpcContactTerm::add_gradient_and_hessian(const VecX& q, double scale, VecX& gradient,
+                                              std::vector<BodyBlock>& blocks) const {
+  if (gradient.size() != q.size())
+    throw std::invalid_argument("add_gradient_and_hessian: gradient must have the size of q");
+  add_derivatives(q, scale, &gradient, blocks);
+}
+
+// One pass per stencil for the Hessian and (if asked) the gradient.
+void IpcContactTerm::add_derivatives(const VecX& q, double scale, VecX* gradient,
+                                     std::vector<BodyBlock>& blocks) const {
   ActiveSet scratch;
   const ActiveSet& set = active_set_at(q, scratch);
   const BarrierParams p = barrier_params(kappa_);
@@ -254,13 +270,16 @@ void IpcContactTerm::add_hessian(const VecX& q, double scale, std::vector<BodyBl
       [&](int i) { return stencil_barrier(set.stencils[i], set.x, p, 2); },
       [&](int i, const StencilEnergy& e) {
         const ContactStencil& s = set.stencils[i];
+        if (gradient) add_stencil_gradient(mesh_, s.vertices, s.nv, e.grad, scale, *gradient);
         acc.add_stencil(mesh_, s.vertices, s.nv, e.hess, scale);
       });
   evaluate_in_order(
       int(friction_.size()), false, threads_,
       [&](int i) { return friction_energy(friction_[i], set.x, friction_eps_, 2); },
       [&](int i, const StencilEnergy& e) {
-        acc.add_stencil(mesh_, friction_[i].vertices, friction_[i].nv, e.hess, scale);
+        const FrictionStencil& f = friction_[i];
+        if (gradient) add_stencil_gradient(mesh_, f.vertices, f.nv, e.grad, scale, *gradient);
+        acc.add_stencil(mesh_, f.vertices, f.nv, e.hess, scale);
       });
   acc.flush_into(blocks);
 }

@@ -71,6 +71,8 @@ class IpcContactTerm : public EnergyTerm {
   double value(const VecX& q) const override;
   void add_gradient(const VecX& q, double scale, VecX& gradient) const override;
   void add_hessian(const VecX& q, double scale, std::vector<BodyBlock>& blocks) const override;
+  void add_gradient_and_hessian(const VecX& q, double scale, VecX& gradient,
+                                std::vector<BodyBlock>& blocks) const override;
   double max_step(const VecX& q, const VecX& dq) const override;
 
   // Splitting by body (solver/energy_term.h): every stencil involves one or two bodies (the
@@ -130,6 +132,8 @@ class IpcContactTerm : public EnergyTerm {
   void add_barrier_gradient(const contact::ActiveSet& set, double kappa, double scale,
                             VecX& gradient) const;
   bool bodies_may_collide(int a, int b) const;
+  void add_derivatives(const VecX& q, double scale, VecX* gradient,
+                       std::vector<BodyBlock>& blocks) const;
   void swept_tois(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1, double margin,
                   std::vector<contact::ContactStencil>& stencils, std::vector<double>& toi) const;
 

@@ -1,5 +1,6 @@
 #include "contact/stencil_barrier.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -70,7 +71,14 @@ StencilEnergy stencil_barrier(const ContactStencil& s, const std::vector<Vec3>& 
     const StencilMat cross = m.grad * g.grad.transpose();
     e.hess += p.kappa * (b1 * (cross + cross.transpose()) + b * m.hess);
   }
-  if (p.project_psd) e.hess = project_psd_on_support(e.hess, s.nv);
+  if (p.project_psd) {
+    if (s.kind == StencilKind::PointGround) {
+      // d² = (z − h)²: the Hessian is c e_z e_zᵀ, its projection max(c, 0) e_z e_zᵀ
+      e.hess(2, 2) = std::max(e.hess(2, 2), 0.0);
+    } else {
+      e.hess = project_psd_on_support(e.hess, s.nv);
+    }
+  }
   return e;
 }
 

@@ -61,6 +61,13 @@ class EnergyTerm {
   virtual double value(const VecX& q) const = 0;
   virtual void add_gradient(const VecX& q, double scale, VecX& gradient) const = 0;
   virtual void add_hessian(const VecX& q, double scale, std::vector<BodyBlock>& blocks) const = 0;
+  // Both at once (what a Newton iteration needs); terms that share work between the two
+  // override it.
+  virtual void add_gradient_and_hessian(const VecX& q, double scale, VecX& gradient,
+                                        std::vector<BodyBlock>& blocks) const {
+    add_gradient(q, scale, gradient);
+    add_hessian(q, scale, blocks);
+  }
 
   // Largest alpha in (0, 1] such that the straight path q + t*dq, t in [0, alpha], stays
   // feasible (continuous collision detection). Terms without feasibility constraints

@@ -76,13 +76,16 @@ World::World(const SceneData& scene, const SolverSettings& settings)
     external_kinetic_[b] = body.external_kinetic;
   }
   radius_.assign(n_, 1.0);
+  extent_.assign(n_, 0.0);
   for (int b = 0; b < n_; ++b) {
     if (scene.geometries.empty()) break;
     const MatX3& rest = scene.geometries[scene.bodies[b].geometry].rest_vertices;
     const Vec3 center = dyadic_[b].m_x_bar / dyadic_[b].m;
     double r = 0.0;
-    for (Eigen::Index v = 0; v < rest.rows(); ++v)
+    for (Eigen::Index v = 0; v < rest.rows(); ++v) {
       r = std::max(r, (rest.row(v).transpose() - center).norm());
+      extent_[b] = std::max(extent_[b], rest.row(v).norm());
+    }
     if (r > 0.0) radius_[b] = r;
   }
   kinematic_target_ = q_;

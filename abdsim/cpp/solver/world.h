@@ -125,8 +125,8 @@ class World {
   void place_kinematic_bodies(StepDiagnostics& d);
   double step_bounds(const VecX& x, const VecX& dq, const std::vector<unsigned char>& mask,
                      std::vector<unsigned char>& near, std::vector<BodyLink>& links);
-  void start_iterate(bool split, StepDiagnostics& d);
-  void initialize_contact_stiffness(double c2);
+  void start_iterate(bool split, double c2, StepDiagnostics& d);
+  void initialize_contact_stiffness(double c2, const VecX& grad_bodies);
   // Π_b of one movable body without terms (kinetic or drive, plus c² shape); with g and H
   // (if non-null) its gradient and Hessian.
   double body_energy(int b, const Vec12& x, double c2, Vec12* g, Mat12* H) const;
@@ -169,11 +169,12 @@ class World {
   VecX x_, grad_, dq_, trial_, q_dot_new_;
   // Coupled solve: free per-body solutions, islands and their line-search state.
   VecX x_free_;
-  std::vector<std::uint8_t> free_ok_;
   std::vector<int> parent_;
   std::vector<std::uint8_t> frozen_, converged_, pending_, halved_;
   VecX tol_translation_, tol_affine_;  // this step's Newton tolerances per body
   std::vector<double> radius_;          // largest distance of a vertex from the centre of mass
+  std::vector<double> extent_;          // largest |x̄| of a vertex
+  std::vector<int> free_iterations_;    // per-body Newton iterations of this step's free solves
   VecX damping_, alpha_, island_E_, island_E_new_, island_slope_, body_E_, body_E_new_, bound_;
   BlockSystem system_;
   std::vector<BodyBlock> blocks_;

@@ -33,6 +33,10 @@ using namespace world_detail;
 
 namespace {
 
+// Per-body loops whose bodies cost well under a microsecond each are not worth handing to the
+// worker pool below this many bodies.
+constexpr int kLightLoop = 1024;
+
 // The Newton step of one body with its rotation taken exactly. Newton's model linearises
 // rotations: A + ΔA with ΔA = W A (W skew) leaves the rotations by O(|W|²), a stretch the
 // stiff shape energy punishes, so the line search cuts every step touching a soft rotational
@@ -122,9 +126,12 @@ double World::body_energy(int b, const Vec12& x, double c2, Vec12* g, Mat12* H) 
 double World::body_energies(const VecX& x, double c2, VecX& E,
                             std::vector<BodyLink>& links) const {
   E.resize(n_);
-  parallel_for(n_, threads_, [&](int b) {
-    E[b] = movable_[b] ? body_energy(b, x.segment<12>(12 * b), c2, nullptr, nullptr) : 0.0;
-  });
+  parallel_for(
+      n_, threads_,
+      [&](int b) {
+        E[b] = movable_[b] ? body_energy(b, x.segment<12>(12 * b), c2, nullptr, nullptr) : 0.0;
+      },
+      kLightLoop);
   double rest = 0.0;
   for (const auto& t : terms_) {
     if (t->splits_by_body()) {
@@ -210,18 +217,19 @@ void World::place_kinematic_bodies(StepDiagnostics& d) {
     if (constrained_[b] && kinematic_[b]) x_.segment<12>(12 * b) = q_tilde_.segment<12>(12 * b);
     if (driven_[b]) {
       x_free_.segment<12>(12 * b) = q_tilde_.segment<12>(12 * b);  // head for the target
-      free_ok_[b] = 0;
       ++d.driven_bodies;
     }
   }
 }
 
-// The Newton start. Bodies that nothing comes near on their way to their free solution (no
-// term reaches them anywhere on the straight move) are done: they take it and are frozen.
+// The Newton start. Every movable body is checked on its way to its prediction x̃ (the
+// target for driven bodies). Bodies that nothing comes near on that move (no term reaches
+// them) run the per-body Newton solve of the fast path and keep its free solution: they are
+// done (frozen) when it lies within 1e-3 d̂ of the prediction (the path that was checked).
 // Every island with something near starts where it is (IPC's start, always feasible): a
 // start clipped by CCD short of the free solution would sit deep in the barrier, where
 // Newton on a log barrier only creeps back out.
-void World::start_iterate(bool split, StepDiagnostics& d) {
+void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   dq_.setZero(12 * n_);
   for (int b = 0; b < n_; ++b)
     if (movable_[b]) dq_.segment<12>(12 * b) = x_free_.segment<12>(12 * b) - x_.segment<12>(12 * b);
@@ -242,6 +250,31 @@ void World::start_iterate(bool split, StepDiagnostics& d) {
   std::vector<unsigned char> stays(n_, 0);  // per island root: start where it is
   for (int b = 0; b < n_; ++b)
     if (movable_[b] && (near[b] || bound_[b] < 1.0 || global < 1.0)) stays[island(b)] = 1;
+
+  // Free solutions of the bodies of islands that nothing comes near.
+  const double slack = contact_ ? 1e-3 * contact_->settings().d_hat : 0.0;
+  free_iterations_.assign(n_, 0);
+  std::vector<unsigned char> solved(n_, 0);
+  for (int b = 0; b < n_; ++b) solved[b] = split && movable_[b] && !driven_[b] && !stays[island(b)];
+  parallel_for(n_, threads_, [&](int b) {
+    if (!solved[b]) return;
+    Vec12 x = x_pred_.segment<12>(12 * b);
+    BodyNewton r;
+    newton_body(b, c2, x, r, nullptr);
+    free_iterations_[b] = r.iterations;
+    const Vec12 dev = x - x_pred_.segment<12>(12 * b);
+    const double moved = dev.head<3>().norm() + extent_[b] * affine_A(dev).norm();
+    if (r.status != kConverged || moved > slack) {
+      solved[b] = 0;
+    } else {
+      x_free_.segment<12>(12 * b) = x;
+    }
+  });
+  for (int b = 0; b < n_; ++b) {
+    d.total_body_iterations += free_iterations_[b];
+    if (split && movable_[b] && !driven_[b] && !stays[island(b)] && !solved[b])
+      stays[island(b)] = 1;  // its free solution strayed from the checked path, or failed
+  }
   for (int b = 0; b < n_; ++b) {
     if (!movable_[b]) continue;
     const double bound = std::min(bound_[b], global);
@@ -256,8 +289,7 @@ void World::start_iterate(bool split, StepDiagnostics& d) {
   // Islands with nothing near, at their free solution: solved.
   std::vector<unsigned char> free_island(n_, 1);
   for (int b = 0; b < n_; ++b)
-    if (movable_[b] && (near[b] || stays[island(b)] || !free_ok_[b] || driven_[b]))
-      free_island[island(b)] = 0;
+    if (movable_[b] && (near[b] || stays[island(b)] || !solved[b])) free_island[island(b)] = 0;
   for (int b = 0; b < n_; ++b)
     if (movable_[b] && free_island[island(b)]) frozen_[b] = converged_[b] = 1;
 }
@@ -267,17 +299,11 @@ void World::start_iterate(bool split, StepDiagnostics& d) {
 // the step, update() doubles it while a gap keeps closing below 1e-9 × the scene size. (A κ
 // that only ever grew ended at κ_max after the first hard landing, and the stiffer barrier
 // took two to three times the Newton iterations from then on.)
-void World::initialize_contact_stiffness(double c2) {
+void World::initialize_contact_stiffness(double c2, const VecX& grad_bodies) {
   if (!contact_ || !contact_->adaptive_kappa()) return;
   const ContactCounts c = contact_->counts();
   if (c.point_triangle + c.edge_edge + c.point_ground == 0) return;
-  VecX grad_rest = VecX::Zero(12 * n_);
-  for (int b = 0; b < n_; ++b) {
-    if (!movable_[b]) continue;
-    Vec12 g;
-    body_energy(b, x_.segment<12>(12 * b), c2, &g, nullptr);
-    grad_rest.segment<12>(12 * b) = g;
-  }
+  VecX grad_rest = grad_bodies;
   for (const auto& t : terms_)
     if (t.get() != contact_.get()) t->add_gradient(x_, c2, grad_rest);
   for (int b = 0; b < n_; ++b)
@@ -296,7 +322,6 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   trial_.resize(12 * n_);
   grad_.resize(12 * n_);
   dq_.resize(12 * n_);
-  free_ok_.assign(n_, 0);
   driven_.assign(n_, 0);
   parent_.resize(n_);
   std::iota(parent_.begin(), parent_.end(), 0);
@@ -308,18 +333,8 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   halved_.assign(n_, 0);
   bound_.setOnes(n_);
 
-  // 1. Free per-body solutions.
-  std::vector<int> free_iterations(n_, 0);
-  parallel_for(n_, threads_, [&](int b) {
-    if (constrained_[b]) return;
-    Vec12 x = x_pred_.segment<12>(12 * b);
-    BodyNewton r;
-    newton_body(b, c2, x, r, nullptr);
-    free_ok_[b] = r.status == kConverged;
-    x_free_.segment<12>(12 * b) = free_ok_[b] ? x : Vec12(x_pred_.segment<12>(12 * b));
-    free_iterations[b] = r.iterations;
-  });
-  for (int b = 0; b < n_; ++b) d.total_body_iterations += free_iterations[b];
+  // 1. Predictions: where each body heads (the target, for a driven kinematic body).
+  x_free_ = x_pred_;
 
   // Newton tolerances per body. Static friction is a spring of stiffness μλ / (ε_v h): a
   // force it cannot hold moves a Newton step of only ~ε_v h before the contact slides, so
@@ -344,14 +359,13 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   place_kinematic_bodies(d);
   movable_.assign(n_, 0);
   for (int b = 0; b < n_; ++b) movable_[b] = !constrained_[b];
-  start_iterate(split, d);
-  initialize_contact_stiffness(c2);
+  start_iterate(split, c2, d);
 
   // 4. Newton, island by island in lockstep.
   std::vector<BodyLink> links;
-  double rest = body_energies(x_, c2, body_E_, links);
-  for (const BodyLink& l : links) merge_islands(l.a, l.b);
+  double rest = 0.0;
   std::vector<std::uint8_t> inactive(n_, 1);
+  std::vector<int> root(n_);  // island roots, for the parallel loops (island() writes)
   VecX island_st(n_), island_sa(n_);
   std::string solver_used;
   bool all_done = false;
@@ -359,7 +373,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   for (int b = 0; b < n_; ++b) {
     if (!movable_[b]) continue;
     if (frozen_[island(b)])
-      free_newton = std::max(free_newton, free_iterations[b]);
+      free_newton = std::max(free_newton, free_iterations_[b]);
     else
       ++d.coupled_bodies;
   }
@@ -382,6 +396,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     d.total_body_iterations += n_active;
 
     // Assemble and solve.
+    for (int b = 0; b < n_; ++b) root[b] = island(b);
     system_.reset(n_, inactive);
     parallel_for(n_, threads_, [&](int b) {
       Mat12& H = system_.diagonal(b);
@@ -392,15 +407,20 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       }
       Vec12 g;
       body_energy(b, x_.segment<12>(12 * b), c2, &g, &H);
-      const double nu = damping_[island(b)];
+      const double nu = damping_[root[b]];
       if (nu > 0.0) H += nu * dyadic_[b].matrix();
       grad_.segment<12>(12 * b) = g;
     });
-    blocks_.clear();
-    for (const auto& t : terms_) {
-      t->add_gradient(x_, c2, grad_);
-      t->add_hessian(x_, c2, blocks_);
+    if (it == 0) {
+      // κ from the gradient balance at the start iterate (grad_ holds the bodies' own part
+      // of ∇Π now), then Π at the start with that κ.
+      initialize_contact_stiffness(c2, grad_);
+      links.clear();
+      rest = body_energies(x_, c2, body_E_, links);
+      for (const BodyLink& l : links) merge_islands(l.a, l.b);
     }
+    blocks_.clear();
+    for (const auto& t : terms_) t->add_gradient_and_hessian(x_, c2, grad_, blocks_);
     for (int b = 0; b < n_; ++b)
       if (inactive[b]) grad_.segment<12>(12 * b).setZero();
     if (!grad_.allFinite()) throw SolverError("the gradient of Π is not finite");
@@ -456,12 +476,15 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     // Rotations taken exactly (see rotation_exact_step); an island for which that is not
     // a descent direction keeps the plain Newton step.
     VecX dq_newton = dq_;
-    parallel_for(n_, threads_, [&](int b) {
-      if (inactive[b]) return;
-      dq_.segment<12>(12 * b) = rotation_exact_step(x_.segment<12>(12 * b),
-                                                    dq_newton.segment<12>(12 * b),
-                                                    dyadic_[b].m_x_bar / dyadic_[b].m);
-    });
+    parallel_for(
+        n_, threads_,
+        [&](int b) {
+          if (inactive[b]) return;
+          dq_.segment<12>(12 * b) = rotation_exact_step(x_.segment<12>(12 * b),
+                                                        dq_newton.segment<12>(12 * b),
+                                                        dyadic_[b].m_x_bar / dyadic_[b].m);
+        },
+        kLightLoop);
     {
       VecX slope_exact = VecX::Zero(n_);
       for (int b = 0; b < n_; ++b)
