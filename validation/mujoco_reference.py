@@ -96,6 +96,7 @@ def run_mujoco(
     wall = 0.0
 
     poses = []
+    free_geom = np.isin(model.body_rootid[model.geom_bodyid], bodies)
 
     def sample() -> None:
         s = body_state(model, data, bodies)
@@ -103,7 +104,12 @@ def run_mujoco(
         T[:, :3, :3] = s["rotation"]
         T[:, :3, 3] = data.xpos[bodies]
         poses.append(T)
-        dist = min((c.dist for c in data.contact[: data.ncon]), default=np.nan)
+        # Only contacts that involve a compared (free) body: MuJoCo also reports contacts
+        # between static and scripted geoms, which abdsim rightly ignores.
+        dist = min(
+            (c.dist for c in data.contact[: data.ncon] if free_geom[c.geom1] or free_geom[c.geom2]),
+            default=np.nan,
+        )
         rec.add(
             time=data.time,
             com=s["com"],

@@ -469,9 +469,13 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       d.step_translation = std::max(d.step_translation, st);
       d.step_affine = std::max(d.step_affine, sa);
     }
+    // An undamped island converges when its step is within tolerance. A damped one solves
+    // (H + νM) Δq = −g with H ⪰ M, so its undamped Newton step is at most (1 + ν) times
+    // longer: it converges when even that bound is within tolerance (this ends iterations
+    // that stagnate at round-off with the damping still raised).
     for (int b = 0; b < n_; ++b)
       if (!inactive[b] && island(b) == b)
-        converged_[b] = damping_[b] == 0.0 && island_ratio[b] <= 1.0;
+        converged_[b] = island_ratio[b] * (1.0 + damping_[b]) <= 1.0;
 
     // Rotations taken exactly (see rotation_exact_step); an island for which that is not
     // a descent direction keeps the plain Newton step.
