@@ -26,8 +26,9 @@ class StepDiagnostics:
     Attributes:
         step: index of the step (0 for the first).
         time: simulated time at the end of the step (s).
-        newton_iterations: Newton iterations (per-body fast path: the most any body took).
-        total_body_iterations: body-iterations summed over bodies.
+        newton_iterations: Newton iterations: the coupled iterations (with contact or other
+            terms), or the most any body took alone (bodies solved on their own).
+        total_body_iterations: the iterations each body took part in, summed over bodies.
         converged: always True for a returned step (a failed step raises SolverError).
         step_translation: last Newton step, max |Δp| / dt (m/s).
         step_affine: last Newton step, max |ΔA| / dt (1/s).

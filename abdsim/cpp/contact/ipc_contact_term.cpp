@@ -178,6 +178,13 @@ void IpcContactTerm::update(const VecX& q) {
   }
 }
 
+void IpcContactTerm::set_no_active_pairs(const VecX& q) {
+  active_ = ActiveSet();
+  active_.q = q;
+  active_.x = mesh_.world_vertices(q);
+  prev_min_gap_ = active_.min_gap;
+}
+
 double IpcContactTerm::initialize_kappa(const VecX& q, const VecX& grad_rest) {
   if (!adaptive_kappa()) return kappa_;
   if (grad_rest.size() != q.size())
@@ -330,6 +337,12 @@ void IpcContactTerm::add_body_values(const VecX& q, const std::vector<unsigned c
 void IpcContactTerm::mark_friction_bodies(std::vector<unsigned char>& flags) const {
   for (const FrictionStencil& f : friction_)
     for (int b : stencil_bodies(f.vertices, f.nv))
+      if (b >= 0 && b < int(flags.size())) flags[size_t(b)] = 1;
+}
+
+void IpcContactTerm::mark_active_bodies(std::vector<unsigned char>& flags) const {
+  for (const ContactStencil& s : active_.stencils)
+    for (int b : s.bodies)
       if (b >= 0 && b < int(flags.size())) flags[size_t(b)] = 1;
 }
 

@@ -115,8 +115,13 @@ class IpcContactTerm : public EnergyTerm {
   double initialize_kappa(const VecX& q, const VecX& grad_rest);
   contact::BarrierStiffness stiffness_bounds() const { return {kappa_, kappa_min_, kappa_max_}; }
 
+  // update(q) for a caller that knows no pair is within d̂ at q (e.g. from body_max_steps
+  // along a move that ends at q): the empty active set, without a broad-phase query.
+  void set_no_active_pairs(const VecX& q);
   // Sets flags[b] = 1 for every body in a lagged friction pair of this step.
   void mark_friction_bodies(std::vector<unsigned char>& flags) const;
+  // Sets flags[b] = 1 for every body in an active pair of the last update() (within d̂).
+  void mark_active_bodies(std::vector<unsigned char>& flags) const;
 
   // Diagnostics about the last update() and begin_step().
   ContactCounts counts() const;

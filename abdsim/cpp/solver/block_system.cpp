@@ -90,32 +90,42 @@ int BlockSystem::solve_block_diagonal(const VecX& rhs, VecX& x, int threads) con
 }
 
 void BlockSystem::solve_direct(const VecX& rhs, VecX& x) const {
+  // Only the free bodies enter the factorisation (a scene of many bodies may couple a few).
+  std::vector<int> index(n_, -1);
+  int m = 0;
+  for (int b = 0; b < n_; ++b)
+    if (!fixed_[b]) index[b] = m++;
   using Triplet = Eigen::Triplet<double>;
   std::vector<Triplet> triplets;
-  triplets.reserve(static_cast<std::size_t>(n_) * 78 + offdiag_.size() * 144 / 2);
+  triplets.reserve(static_cast<std::size_t>(m) * 78 + offdiag_.size() * 144 / 2);
   for (int b = 0; b < n_; ++b) {
-    if (fixed_[b]) {
-      for (int k = 0; k < 12; ++k) triplets.emplace_back(12 * b + k, 12 * b + k, 1.0);
-      continue;
-    }
+    if (fixed_[b]) continue;
+    const int i = index[b];
     for (int c = 0; c < 12; ++c)
-      for (int r = c; r < 12; ++r) triplets.emplace_back(12 * b + r, 12 * b + c, diag_[b](r, c));
+      for (int r = c; r < 12; ++r) triplets.emplace_back(12 * i + r, 12 * i + c, diag_[b](r, c));
   }
   // SimplicialLDLT reads the lower triangle: the blocks with row > col.
   for (const OffDiagonal& o : offdiag_) {
     if (o.row < o.col) continue;
+    const int i = index[o.row], j = index[o.col];
     for (int c = 0; c < 12; ++c)
       for (int r = 0; r < 12; ++r)
-        if (o.H(r, c) != 0.0) triplets.emplace_back(12 * o.row + r, 12 * o.col + c, o.H(r, c));
+        if (o.H(r, c) != 0.0) triplets.emplace_back(12 * i + r, 12 * j + c, o.H(r, c));
   }
-  Eigen::SparseMatrix<double> A(12 * n_, 12 * n_);
+  Eigen::SparseMatrix<double> A(12 * m, 12 * m);
   A.setFromTriplets(triplets.begin(), triplets.end());
+  VecX b_free(12 * m);
+  for (int b = 0; b < n_; ++b)
+    if (!fixed_[b]) b_free.segment<12>(12 * index[b]) = rhs.segment<12>(12 * b);
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt(A);
   if (ldlt.info() != Eigen::Success)
     throw SolverError("sparse LDLT factorisation of the Newton matrix failed");
-  x = ldlt.solve(rhs);
-  if (ldlt.info() != Eigen::Success || !x.allFinite())
+  const VecX x_free = ldlt.solve(b_free);
+  if (ldlt.info() != Eigen::Success || !x_free.allFinite())
     throw SolverError("sparse LDLT solve of the Newton system failed (singular matrix?)");
+  x.setZero(12 * n_);
+  for (int b = 0; b < n_; ++b)
+    if (!fixed_[b]) x.segment<12>(12 * b) = x_free.segment<12>(12 * index[b]);
 }
 
 void BlockSystem::multiply(const VecX& v, VecX& out, int threads) const {

@@ -14,10 +14,10 @@
 // bodies are independent and each body runs its own 12-dof Newton solve (the free-flight
 // fast path, in parallel over bodies).
 //
-// With terms (world_coupled.cpp), every body first runs that per-body solve as if free.
-// Terms that split by body (contact) say which bodies they couple: bodies that nothing comes
-// near on the way to their free solution keep it (they are done), the others form islands of
-// coupled bodies that start where they are, each with its own CCD bound, line search and
+// With terms (world_coupled.cpp), terms that split by body (contact) say which bodies they
+// couple: bodies that nothing comes near on their way to the prediction run that per-body
+// solve and keep its free solution (they are done); the others form islands of coupled
+// bodies that start where they are, each with its own CCD bound, line search and
 // convergence, solved together (one linear system, one contact query per iteration) in
 // lockstep. Islands merge as soon as a term links them.
 //

@@ -1,14 +1,13 @@
 // The World's coupled solve (world.h): what a step does when energy terms (contact, joints,
 // user terms) are present.
 //
-//  1. Every free body runs the per-body Newton solve of the fast path (no terms): its free
-//     solution x_free.
-//  2. Kinematic bodies go to their targets when that move is free of contact (CCD, the other
+//  1. Kinematic bodies go to their targets when that move is free of contact (CCD, the other
 //     bodies at rest); the others are driven by a stiff spring this step (world.h).
-//  3. Terms that split by body report, for the move of every body to x_free, which bodies
-//     come within their reach (links): linked bodies form islands. Bodies that nothing comes
-//     near keep x_free: they are solved. Islands start from where they are (IPC).
-//  4. Projected Newton on the remaining islands in lockstep: one assembled system and one
+//  2. Terms that split by body report, for the move of every body to its prediction, which
+//     bodies come within their reach (links): linked bodies form islands. Bodies that nothing
+//     comes near run the per-body Newton solve of the fast path and keep that free solution:
+//     they are solved (start_iterate). Islands start from where they are (IPC).
+//  3. Projected Newton on the remaining islands in lockstep: one assembled system and one
 //     contact query per iteration, but a CCD bound, Armijo line search and convergence test
 //     per island; a converged island stops moving; islands merge whenever a term links them
 //     (then they iterate again together). Each step's rotations are taken exactly
@@ -224,8 +223,11 @@ void World::place_kinematic_bodies(StepDiagnostics& d) {
 
 // The Newton start. Every movable body is checked on its way to its prediction x̃ (the
 // target for driven bodies). Bodies that nothing comes near on that move (no term reaches
-// them) run the per-body Newton solve of the fast path and keep its free solution: they are
-// done (frozen) when it lies within 1e-3 d̂ of the prediction (the path that was checked).
+// them within d̂) run the per-body Newton solve of the fast path and keep its free solution.
+// They are done (frozen) when no contact pair involves them there (the energy of the terms
+// is zero around it: it is the solution) and their path to it is clear: the checked one, when
+// the solution lies within d̂/4 of the prediction (so the path stays farther than d̂/2 from
+// everything), else their own move, checked again against everything else at its start.
 // Every island with something near starts where it is (IPC's start, always feasible): a
 // start clipped by CCD short of the free solution would sit deep in the barrier, where
 // Newton on a log barrier only creeps back out.
@@ -252,9 +254,9 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
     if (movable_[b] && (near[b] || bound_[b] < 1.0 || global < 1.0)) stays[island(b)] = 1;
 
   // Free solutions of the bodies of islands that nothing comes near.
-  const double slack = contact_ ? 1e-3 * contact_->settings().d_hat : 0.0;
+  const double slack = contact_ ? 0.25 * contact_->settings().d_hat : 0.0;
   free_iterations_.assign(n_, 0);
-  std::vector<unsigned char> solved(n_, 0);
+  std::vector<unsigned char> solved(n_, 0), strayed(n_, 0);
   for (int b = 0; b < n_; ++b) solved[b] = split && movable_[b] && !driven_[b] && !stays[island(b)];
   parallel_for(n_, threads_, [&](int b) {
     if (!solved[b]) return;
@@ -264,32 +266,58 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
     free_iterations_[b] = r.iterations;
     const Vec12 dev = x - x_pred_.segment<12>(12 * b);
     const double moved = dev.head<3>().norm() + extent_[b] * affine_A(dev).norm();
-    if (r.status != kConverged || moved > slack) {
+    if (r.status != kConverged) {
       solved[b] = 0;
     } else {
       x_free_.segment<12>(12 * b) = x;
+      strayed[b] = moved > slack;
     }
   });
+  bool recheck = false;
   for (int b = 0; b < n_; ++b) {
     d.total_body_iterations += free_iterations_[b];
-    if (split && movable_[b] && !driven_[b] && !stays[island(b)] && !solved[b])
-      stays[island(b)] = 1;  // its free solution strayed from the checked path, or failed
+    recheck = recheck || (solved[b] && strayed[b]);
   }
+  if (recheck) {
+    // Some free solutions strayed from the checked path: check the solved bodies' own moves
+    // (everything else where it starts).
+    dq_.setZero(12 * n_);
+    for (int b = 0; b < n_; ++b)
+      if (solved[b]) dq_.segment<12>(12 * b) = x_free_.segment<12>(12 * b) - x_.segment<12>(12 * b);
+    std::vector<unsigned char> near2;
+    std::vector<BodyLink> links2;
+    step_bounds(x_, dq_, movable_, near2, links2);
+    for (int b = 0; b < n_; ++b)
+      if (solved[b] && (near2[b] || bound_[b] < 1.0)) solved[b] = 0;
+  }
+  for (int b = 0; b < n_; ++b)
+    if (split && movable_[b] && !driven_[b] && !stays[island(b)] && !solved[b])
+      stays[island(b)] = 1;  // its free solution failed, or its own move comes near
+  bool all_clear = split;  // every movable body solved alone: no contact pair anywhere
   for (int b = 0; b < n_; ++b) {
     if (!movable_[b]) continue;
     const double bound = std::min(bound_[b], global);
     d.min_term_max_step = std::min(d.min_term_max_step, bound);
     if (!stays[island(b)]) x_.segment<12>(12 * b) = x_free_.segment<12>(12 * b);
+    all_clear = all_clear && solved[b];
   }
-  for (const auto& t : terms_) t->update(x_);
+  for (const auto& t : terms_) {
+    if (all_clear && t.get() == contact_.get())
+      contact_->set_no_active_pairs(x_);  // what update() would find, without the query
+    else
+      t->update(x_);
+  }
   links.clear();
   for (const auto& t : terms_) t->body_links(movable_, links);
   for (const BodyLink& l : links) merge_islands(l.a, l.b);
   if (!split) return;
-  // Islands with nothing near, at their free solution: solved.
+  // Islands with nothing near, at their free solution, with no contact there: solved.
+  std::vector<unsigned char> engaged(n_, 0);
+  if (contact_) contact_->mark_active_bodies(engaged);
   std::vector<unsigned char> free_island(n_, 1);
   for (int b = 0; b < n_; ++b)
-    if (movable_[b] && (near[b] || stays[island(b)] || !solved[b])) free_island[island(b)] = 0;
+    if (movable_[b] && (near[b] || stays[island(b)] || !solved[b] || engaged[b]))
+      free_island[island(b)] = 0;
   for (int b = 0; b < n_; ++b)
     if (movable_[b] && free_island[island(b)]) frozen_[b] = converged_[b] = 1;
 }
@@ -333,7 +361,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   halved_.assign(n_, 0);
   bound_.setOnes(n_);
 
-  // 1. Predictions: where each body heads (the target, for a driven kinematic body).
+  // Where each body heads (its prediction; the target, for a driven kinematic body).
   x_free_ = x_pred_;
 
   // Newton tolerances per body. Static friction is a spring of stiffness μλ / (ε_v h): a
@@ -354,14 +382,14 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       }
   }
 
-  // 2. Kinematic bodies; 3. the start iterate.
+  // 1. Kinematic bodies; 2. the start iterate.
   x_ = q_;
   place_kinematic_bodies(d);
   movable_.assign(n_, 0);
   for (int b = 0; b < n_; ++b) movable_[b] = !constrained_[b];
   start_iterate(split, c2, d);
 
-  // 4. Newton, island by island in lockstep.
+  // 3. Newton, island by island in lockstep.
   std::vector<BodyLink> links;
   double rest = 0.0;
   std::vector<std::uint8_t> inactive(n_, 1);
