@@ -12,7 +12,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from abdsim.validation.trajectory import Recorder, Trajectory, rigid_energy
+from abdsim.validation.trajectory import Recorder, Trajectory
 
 
 def load_model(path: str | Path) -> mujoco.MjModel:
@@ -110,17 +110,7 @@ def run_mujoco(
             (c.dist for c in data.contact[: data.ncon] if free_geom[c.geom1] or free_geom[c.geom2]),
             default=np.nan,
         )
-        rec.add(
-            time=data.time,
-            com=s["com"],
-            rotation=s["rotation"],
-            linear_momentum=s["linear_momentum"],
-            angular_momentum=s["angular_momentum"],
-            energy=rigid_energy(
-                s["mass"], s["v_com"], s["omega"], s["angular_momentum"], s["com"], gravity
-            ),
-            contact_distance=dist,
-        )
+        rec.add_rigid(data.time, s, gravity, dist)
 
     sample()
     for k in range(1, n_steps + 1):

@@ -14,7 +14,7 @@ import numpy as np
 import pinocchio as pin
 
 from abdsim.validation.mujoco_reference import body_names, free_bodies, initial_data, load_model
-from abdsim.validation.trajectory import Recorder, Trajectory, rigid_energy
+from abdsim.validation.trajectory import Recorder, Trajectory
 
 
 def free_flyer_model(masses, levers, inertias, names, gravity) -> pin.Model:
@@ -131,17 +131,7 @@ def run_pinocchio_free_flight(
 
     def sample(t: float) -> None:
         s = _sample(model, data, q, v)
-        rec.add(
-            time=t,
-            com=s["com"],
-            rotation=s["rotation"],
-            linear_momentum=s["linear_momentum"],
-            angular_momentum=s["angular_momentum"],
-            energy=rigid_energy(
-                s["mass"], s["v_com"], s["omega"], s["angular_momentum"], s["com"], gravity
-            ),
-            contact_distance=np.nan,
-        )
+        rec.add_rigid(t, s, gravity, np.nan)
 
     sample(0.0)
     wall = 0.0

@@ -72,6 +72,28 @@ class Recorder:
         for key, rows in self._rows.items():
             rows.append(np.asarray(sample[key], dtype=np.float64))
 
+    def add_rigid(
+        self, time: float, state: dict, gravity: np.ndarray, contact_distance: float = np.nan
+    ) -> None:
+        """Add a sample from rigid-body state (com, rotation, v_com, omega, momenta, mass)."""
+        energy = rigid_energy(
+            state["mass"],
+            state["v_com"],
+            state["omega"],
+            state["angular_momentum"],
+            state["com"],
+            gravity,
+        )
+        self.add(
+            time=time,
+            com=state["com"],
+            rotation=state["rotation"],
+            linear_momentum=state["linear_momentum"],
+            angular_momentum=state["angular_momentum"],
+            energy=energy,
+            contact_distance=contact_distance,
+        )
+
     def finish(self, wall_time: float, steps: int, **extra: object) -> Trajectory:
         data = {k: np.stack(v) if v else np.zeros(0) for k, v in self._rows.items()}
         return Trajectory(
