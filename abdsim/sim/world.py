@@ -11,6 +11,7 @@ import numpy as np
 
 from abdsim._native import _core
 from abdsim.constitution.rigid_body import _dyadic_of
+from abdsim.sim.contact_forces import ContactForces, rest_centers_of_mass, world_centers
 from abdsim.sim.scene import GROUND, BodyHandle, Scene
 
 SolverError = _core.SolverError
@@ -201,6 +202,7 @@ class World:
                 for b in h.bodies:
                     self._core.set_kinematic_target(b, q0[b])
         self._contact = None
+        self._rest_centers: np.ndarray | None = None  # for contact_wrenches, on first use
         if scene.settings.contact and self._needs_contact(data, scene):
             try:
                 self._contact = self._core.enable_contact(self._contact_settings(scene))
@@ -499,6 +501,31 @@ class World:
         return float(
             self._core.min_contact_distance(-1.0 if max_distance is None else max_distance)
         )
+
+    def contacts(self) -> ContactForces:
+        """Contact forces of the last step, per contact pair (see ``ContactForces``).
+
+        The barrier forces at the current state and the friction lagged for the last step:
+        the forces the last step applied. (After ``set_state``, until the next step, the
+        friction part still refers to the last step's motion.) Empty without contact.
+        """
+        if self._contact is None:
+            return ContactForces.empty()
+        return ContactForces.from_core(self._contact.contact_forces(self._core.q.reshape(-1)))
+
+    def contact_wrenches(self) -> np.ndarray:
+        """Net contact force and torque on each body, (n_bodies, 6) rows ``[f, τ]`` (N, N m).
+
+        The torque is about the body's centre of mass; the forces are those of
+        ``contacts()`` (the last step's), summed over every pair the body is in.
+        """
+        if self._contact is None:
+            return np.zeros((self.num_bodies, 6))
+        if self._rest_centers is None:
+            self._rest_centers = rest_centers_of_mass(self._core.scene, self._handles)
+        q = self.q
+        centers = world_centers(q, self._rest_centers)
+        return np.asarray(self._contact.contact_wrenches(q.reshape(-1), centers))
 
     def add_term(self, term: _core.EnergyTerm) -> None:
         """Add a potential (contact, joints, a ``_core.PythonEnergyTerm`` subclass...) to Π."""
