@@ -200,3 +200,26 @@ def test_no_contact_gives_empty_arrays(wc):
     world = abdsim.World(scene)
     world.step()
     assert len(world.contacts()) == 0 and not world.contact_wrenches().any()
+
+
+def test_bad_input_to_the_contact_force_bindings_is_a_value_error(wc):
+    """Wrong sizes and an intersecting state raise ValueError (never a crash)."""
+    scene = abdsim.Scene(dt=DT)
+    scene.add_ground(0.0)
+    sc = wc.box((0.1, 0.1, 0.1))
+    wc.place(sc, [[0.0, 0.0, 0.0505]])
+    scene.add(sc)
+    world = abdsim.World(scene)
+    term, q = world.contact, world.q.reshape(-1)
+    with pytest.raises(ValueError, match="12 values per body"):
+        term.contact_forces(q[:5])
+    with pytest.raises(ValueError, match="12 values per body"):
+        term.contact_wrenches(q[:5], np.zeros((1, 3)))
+    with pytest.raises(ValueError, match="one point per body"):
+        term.contact_wrenches(q, np.zeros((2, 3)))
+    below = q.copy()
+    below[2] = 0.01  # half inside the ground
+    with pytest.raises(ValueError, match="infeasible"):
+        term.contact_forces(below)
+    with pytest.raises(ValueError, match="infeasible"):
+        term.contact_wrenches(below, np.zeros((1, 3)))
