@@ -417,6 +417,10 @@ class McapLogger:
             step=step,
             namespace=namespace,
         )
+        # Contact forces (NS/contacts, NS/contact_arrows) of Worlds with contact.
+        from abdsim.bridges.contact_log import log_world_contacts
+
+        log_world_contacts(self, world, t, step=step, namespace=namespace)
         diag = adapter.world_diagnostics(world)
         if diag is None:
             return

@@ -1,6 +1,8 @@
 """Simulation: Scene (what to simulate, with which settings) and World (the stepper)."""
 
+from abdsim.sim.contact_forces import ContactForces
 from abdsim.sim.scene import GROUND, BodyHandle, ContactTable, Ground, Scene
+from abdsim.sim.sensors import SensorSet, SensorSpec
 from abdsim.sim.settings import SceneSettings
 from abdsim.sim.world import (
     SolverError,
@@ -13,10 +15,13 @@ from abdsim.sim.world import (
 __all__ = [
     "GROUND",
     "BodyHandle",
+    "ContactForces",
     "ContactTable",
     "Ground",
     "Scene",
     "SceneSettings",
+    "SensorSet",
+    "SensorSpec",
     "SolverError",
     "StepDiagnostics",
     "World",

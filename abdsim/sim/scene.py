@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from abdsim.geometry.simplicial_complex import SimplicialComplex
+from abdsim.sim.sensors import SensorSet
 from abdsim.sim.settings import SceneSettings
 
 GROUND = "ground"  #: the ground's name in ``Scene.contact_table``
@@ -140,6 +141,8 @@ class Scene:
         self._handles: list[BodyHandle] = []
         self._ground: Ground | None = None
         self.contact_table = ContactTable()
+        #: sensors every World of this scene starts with (``sensors.add(...)``, MJCF sensors)
+        self.sensors = SensorSet()
 
     @property
     def dt(self) -> float:
