@@ -70,7 +70,9 @@ def _info(args: argparse.Namespace) -> int:
     start, end = info["start_ns"], info["end_ns"]
     print(f"file:        {info['path']} ({info['size_bytes']} bytes)")
     print(f"chunks:      {info['chunks']} ({', '.join(info['compression']) or 'none'})")
-    if info["truncated"]:
+    if info["corrupted"]:
+        print(f"status:      CORRUPTED ({info['error']}; read up to the chunk before it)")
+    elif info["truncated"]:
         print("status:      TRUNCATED (read up to the last complete chunk)")
     if start is not None:
         print(
