@@ -73,6 +73,7 @@ def run(args: argparse.Namespace) -> int:
         return 0 if all(r["passed"] for r in rows) else 1
 
     from abdsim.validation.harness import validate
+    from abdsim.validation.speed import describe
 
     res = validate(
         args.scene,
@@ -97,10 +98,15 @@ def run(args: argparse.Namespace) -> int:
         )
     t = res.metrics["timing"]
     if t:
-        print(
-            f"abdsim {t['simulators']['abdsim']['steps_per_s']:.0f} steps/s, MuJoCo "
-            f"{t['simulators']['mujoco']['steps_per_s']:.0f} steps/s"
-        )
+        sims = t["simulators"]
+        for label, ratio, rate in (
+            ("stepping only", t["speed_vs_mujoco"], "steps_per_s"),
+            ("end to end", t["speed_vs_mujoco_end_to_end"], "end_to_end_steps_per_s"),
+        ):
+            print(
+                f"{describe(ratio, label)}: abdsim {sims['abdsim'][rate]:.0f} steps/s, "
+                f"MuJoCo {sims['mujoco'][rate]:.0f} steps/s"
+            )
     for note in res.metrics.get("notes", []):
         print(f"note: {note}")
     print(f"report: {res.report}")
