@@ -45,6 +45,8 @@ from typing import Any
 
 import numpy as np
 
+from abdsim.sim.pose import angular_velocities, nearest_rotations, quaternions_wxyz
+
 #: Schema of ``NS/bodies``.
 BODY_STATES_SCHEMA: dict[str, Any] = {
     "title": "abdsim.BodyStates",
@@ -637,53 +639,9 @@ def run_and_log(
 # ---------------------------------------------------------------------------------------------
 # Rotations, twists, JSON
 # ---------------------------------------------------------------------------------------------
-def nearest_rotations(A: np.ndarray) -> np.ndarray:
-    """Polar rotation factor R of each 3x3 ``A`` (the rotation nearest to it), (n, 3, 3)."""
-    U, _, Vt = np.linalg.svd(A)
-    d = np.sign(np.linalg.det(U @ Vt))
-    d[d == 0] = 1.0
-    U[:, :, 2] *= d[:, None]
-    return U @ Vt
-
-
 def rotation_to_quat_xyzw(R: np.ndarray) -> np.ndarray:
-    """Unit quaternions [x, y, z, w] (w >= 0) of rotation matrices (n, 3, 3)."""
-    R = np.asarray(R, dtype=np.float64).reshape(-1, 3, 3)
-    m00, m11, m22 = R[:, 0, 0], R[:, 1, 1], R[:, 2, 2]
-    candidates = np.stack(
-        [
-            1 + m00 + m11 + m22,  # w largest
-            1 + m00 - m11 - m22,  # x
-            1 - m00 + m11 - m22,  # y
-            1 - m00 - m11 + m22,  # z
-        ],
-        axis=1,
-    )
-    pick = np.argmax(candidates, axis=1)
-    s = 2.0 * np.sqrt(np.maximum(candidates[np.arange(len(R)), pick], 1e-300))
-    d21, d02, d10 = R[:, 2, 1] - R[:, 1, 2], R[:, 0, 2] - R[:, 2, 0], R[:, 1, 0] - R[:, 0, 1]
-    s01, s02, s12 = R[:, 0, 1] + R[:, 1, 0], R[:, 0, 2] + R[:, 2, 0], R[:, 1, 2] + R[:, 2, 1]
-    rows = {  # [x, y, z, w] * s for each choice of the largest component
-        0: (d21, d02, d10, s * s / 4),
-        1: (s * s / 4, s01, s02, d21),
-        2: (s01, s * s / 4, s12, d02),
-        3: (s02, s12, s * s / 4, d10),
-    }
-    q = np.empty((len(R), 4))
-    for k, cols in rows.items():
-        m = pick == k
-        q[m] = np.stack([c[m] for c in cols], axis=1) / s[m, None]
-    q /= np.linalg.norm(q, axis=1, keepdims=True)
-    q[q[:, 3] < 0] *= -1
-    return q
-
-
-def angular_velocities(A: np.ndarray, A_dot: np.ndarray) -> np.ndarray:
-    """World-frame ω of each body from Ȧ = [ω]× A: the skew part of Ȧ A⁻¹, (n, 3)."""
-    W = A_dot @ np.linalg.inv(A)
-    return 0.5 * np.stack(
-        [W[:, 2, 1] - W[:, 1, 2], W[:, 0, 2] - W[:, 2, 0], W[:, 1, 0] - W[:, 0, 1]], axis=1
-    )
+    """Unit quaternions [x, y, z, w] (w >= 0, Foxglove's order) of rotation matrices (n, 3, 3)."""
+    return quaternions_wxyz(R)[:, [1, 2, 3, 0]]
 
 
 def to_jsonable(obj: Any, _depth: int = 0) -> Any:
