@@ -1,4 +1,5 @@
 # Compile and link against copies of the dependencies that live at a stable path.
+# (The other half of "one build": the objects live in core/, see CMakeLists.txt.)
 #
 # Why: pip's build isolation installs pybind11, Eigen and coal into a fresh temporary folder
 # for every `pip install`, and writes their files with new modification times. Every compile
