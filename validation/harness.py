@@ -151,7 +151,17 @@ def validate(
         [abd, mj, pin], max(t_free, 0.0), out_dir / "conservation.png"
     ).name
     if contact:
-        plot_files["contact"] = plots.plot_contact(abd, mj, out_dir / "contact.png").name
+        plot_files["contact"] = plots.plot_contact(
+            abd, mj, out_dir / "contact.png", d_hat=contact.get("d_hat")
+        ).name
+    geoms = [setup.loaded.bodies[i].geometry for i in setup.body_ids]
+    plot_files["snapshots"] = plots.plot_snapshots(
+        abd,
+        mj,
+        [(g.positions, g.triangles) for g in geoms],
+        np.array([c for _, c, _ in setup.rigid_bodies()]),
+        out_dir / "snapshots.png",
+    ).name
 
     newton = abd.extra.get("newton_iterations")
     # Speeds follow abdsim.validation.speed: N× MuJoCo's speed, > 1 is faster; "stepping"

@@ -91,6 +91,11 @@ def write_report(path: Path, metrics: dict, checks: list[Check], plots: dict[str
             f"reference (RK4 on SE(3)), {s['duration']:g} s simulated."
         )
     lines = [f"# abdsim validation — `{Path(metrics['scene']).name}`", "", verdict, ""]
+    if plots.get("snapshots"):
+        lines += [
+            f"![abdsim (top) and MuJoCo (bottom) at a few times]({plots['snapshots']})",
+            "",
+        ]
     for note in metrics.get("notes", []):
         lines += [f"> Note: {note}", ""]
     if failed:
