@@ -44,7 +44,7 @@ def validate(
     scene: str | Path | None = None,
     duration: float = 2.0,
     dt: float = 1e-3,
-    out: str | Path = "abdsim_validation",
+    out: str | Path = "abdsim_out/validation",
     tolerances: str | Path | Tolerances | None = None,
     integrator: str = "bdf2",
     sample_dt: float = 0.01,

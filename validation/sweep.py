@@ -2,9 +2,11 @@
 
 Cases are plain, picklable ``SweepCase`` records and the work function is a module-level
 function, so any ``concurrent.futures.Executor`` runs them: the default process pool here,
-or a cluster engine's executor (``dask.distributed.Client(...).get_executor()``,
-``ray.util.multiprocessing.Pool`` via its ``concurrent.futures`` adapter) without changing
-the scene code.
+or a Dask cluster's (``dask.distributed.Client(ADDRESS).get_executor()``, which is what
+``abdsim validate --sweep --scheduler ADDRESS`` uses; tested against a ``LocalCluster`` of
+processes), without changing the scene code. Each case writes its report under its own
+``out`` folder, which must be reachable from the workers (a shared file system on a real
+cluster).
 """
 
 from __future__ import annotations
