@@ -134,10 +134,16 @@ def plot_contact(abd: Trajectory, mj: Trajectory, path: Path, d_hat: float | Non
     """abdsim's smallest gap (always > 0) and MuJoCo's contact distance (< 0: penetration),
     each on its own axis: a 1 mm gap disappears on a 100 mm penetration scale."""
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
-    ax1.plot(abd.time, abd.contact_distance * 1e3, color="C0", label="abdsim smallest gap")
+    # Markers: abdsim reports a gap only while surfaces are within d̂, often at isolated
+    # samples that a line alone would not draw.
+    ax1.plot(
+        abd.time, abd.contact_distance * 1e3, "o-", ms=4, color="C0", label="abdsim smallest gap"
+    )
     if d_hat:
         ax1.axhline(d_hat * 1e3, color="gray", lw=0.8, ls="--", label="barrier d̂")
-    ax1.set_ylim(bottom=0.0)
+    gaps = abd.contact_distance[np.isfinite(abd.contact_distance)] * 1e3
+    top = max(float(gaps.max(initial=0.0)), (d_hat or 0.0) * 1e3)
+    ax1.set_ylim(0.0, 1.15 * top if top > 0 else 1.0)  # room above d̂ for the line to show
     ax1.set_title("abdsim: smallest distance between surfaces (never ≤ 0)")
     ax1.set_ylabel("gap [mm]")
     ax2.plot(mj.time, mj.contact_distance * 1e3, color="C1", label="MuJoCo contact distance")
@@ -176,7 +182,11 @@ def plot_snapshots(
     lo = both.min(axis=0) - radius
     hi = both.max(axis=0) + radius
     lo[2] = min(lo[2], 0.0)
-    fig = plt.figure(figsize=(3.2 * len(picks), 6.4))
+    # A square floor (x and y spans equal) keeps the bodies' proportions readable.
+    half = 0.5 * float(np.max(hi[:2] - lo[:2]))
+    mid = 0.5 * (lo[:2] + hi[:2])
+    lo[:2], hi[:2] = mid - half, mid + half
+    fig = plt.figure(figsize=(3.2 * len(picks), 7.0))
     for row, tr in enumerate((abd, mj)):
         for col, k in enumerate(picks):
             ax = fig.add_subplot(2, len(picks), row * len(picks) + col + 1, projection="3d")
@@ -194,15 +204,20 @@ def plot_snapshots(
             ax.set_ylabel("y [m]", fontsize=7)
             ax.set_zlabel("z [m]", fontsize=7)
             ax.tick_params(labelsize=6)
+            ax.locator_params(nbins=4)
+            ax.view_init(elev=15, azim=-65)
             ax.set_title(f"{_LABEL[tr.simulator]}, t = {tr.time[k]:.2f} s", fontsize=9)
-    return _save(fig, path)
+    # tight_layout on 3D axes costs seconds; fixed margins do as well here.
+    fig.subplots_adjust(left=0.0, right=0.97, bottom=0.05, top=0.95, wspace=0.05, hspace=0.25)
+    return _save(fig, path, tight=False)
 
 
 _LABEL = {"abdsim": "abdsim", "mujoco": "MuJoCo", "pinocchio": "Pinocchio"}
 
 
-def _save(fig: plt.Figure, path: Path) -> Path:
-    fig.tight_layout()
+def _save(fig: plt.Figure, path: Path, tight: bool = True) -> Path:
+    if tight:
+        fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
