@@ -3,18 +3,13 @@
 Per namespace ``NS`` (default ``/abdsim``; e.g. ``/mujoco`` for a reference run in the same
 file) the log has four channels:
 
-============================  ==========================  =========  ===========================
-topic                         schema                      encoding   content
-============================  ==========================  =========  ===========================
-``NS/scene``                  ``foxglove.SceneUpdate``    protobuf   once: every body's surface
-                                                                     (triangle list, frame-locked)
-``NS/tf``                     ``foxglove.FrameTransforms`` protobuf  per step: ``world`` → each
-                                                                     body frame ``ns/NAME``
-``NS/bodies``                 ``abdsim.BodyStates``       json       per step: exact 3x4
-                                                                     transform and dT/dt, position,
-                                                                     quaternion, twist per body
-``NS/diagnostics``            ``abdsim.StepDiagnostics``  json       per step: solver diagnostics
-============================  ==========================  =========  ===========================
+* ``NS/scene`` (``foxglove.SceneUpdate``, protobuf), once: every body's surface (triangle
+  list, frame-locked);
+* ``NS/tf`` (``foxglove.FrameTransforms``, protobuf), per step: ``world`` → each body frame
+  ``ns/NAME``;
+* ``NS/bodies`` (``abdsim.BodyStates``, json), per step: exact 3x4 transform and dT/dt,
+  position, quaternion, twist per body;
+* ``NS/diagnostics`` (``abdsim.StepDiagnostics``, json), per step: solver diagnostics.
 
 Foxglove's 3D panel shows the bodies from ``scene`` + ``tf``; its Plot panel can plot e.g.
 ``/abdsim/bodies.bodies[:]{name=="box"}.position[2]``. ``tf`` carries the rotation nearest to
