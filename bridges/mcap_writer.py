@@ -4,9 +4,11 @@ Why not a stock writer: both ``foxglove-sdk``'s and ``mcap``'s writers write the
 section only when they close, so a log that a World keeps open across ``world.step(n,
 log=path)`` calls is not a valid MCAP file between the calls. This writer keeps what a
 summary needs (schemas, channels, statistics, chunk and metadata indexes) in memory;
-:meth:`CheckpointWriter.checkpoint` finishes the current chunk and writes ``DataEnd``, the
-summary, the footer and the closing magic; the next write cuts the file back to where
-``DataEnd`` began and the data section simply continues. Between checkpoints every finished
+:meth:`CheckpointWriter.checkpoint` writes the current chunk, ``DataEnd``, the summary, the
+footer and the closing magic; the next write cuts the file back to where that chunk began
+(it stays open in memory and is written again, fuller, later), so the data section simply
+continues and frequent checkpoints (``world.step(1, log=path)`` in a loop) still make full
+chunks. Between checkpoints every finished
 chunk goes straight to the OS, so a killed run leaves a file whose complete chunks the
 streaming reader still reads.
 
@@ -91,6 +93,7 @@ class CheckpointWriter:
         self._pending_defs: list[Schema | Channel] = []
         self._reset_chunk()
         self._data_end: int | None = None  # file offset of DataEnd while a summary is written
+        self._open_chunk_offset: int | None = None  # where a checkpointed open chunk starts
         self._closed = False
         stream.write(MAGIC)
         self._write_records([Header(profile=profile, library=library)])
@@ -163,6 +166,11 @@ class CheckpointWriter:
     def flush(self) -> None:
         """Finish the current chunk (with its message indexes) and hand it to the OS."""
         self._reopen()
+        self._write_chunk(keep_open=False)
+
+    def _write_chunk(self, keep_open: bool) -> None:
+        """Write the current chunk; with ``keep_open`` it stays open for more messages and
+        the next write replaces it on disk (so checkpoints do not cut chunks short)."""
         if self._chunk_times is None:
             return
         raw = self._chunk.end()
@@ -198,16 +206,20 @@ class CheckpointWriter:
                 uncompressed_size=len(raw),
             )
         )
-        self._reset_chunk()
+        if keep_open:
+            self._chunk.write(raw)  # the builder goes on after the bytes written so far
+            self._open_chunk_offset = offset
+        else:
+            self._reset_chunk()
 
     def checkpoint(self) -> None:
-        """Finish the chunk and write DataEnd, summary and footer: the file is complete now.
+        """Write the open chunk, DataEnd, summary and footer: the file is complete now.
 
-        Writing more afterwards continues the data section (the summary is rewritten at the
-        next checkpoint).
+        Writing more afterwards continues the data section (the open chunk and the summary
+        are rewritten at the next checkpoint).
         """
         self._reopen()
-        self.flush()
+        self._write_chunk(keep_open=True)
         self._data_end = self._stream.tell()
         self._write_records([DataEnd(data_section_crc=0)])
         summary_start = self._stream.tell()
@@ -269,7 +281,12 @@ class CheckpointWriter:
         if self._closed:
             raise ValueError("the MCAP writer is closed")
         if self._data_end is not None:
-            self._stream.seek(self._data_end)
+            cut = self._data_end
+            if self._open_chunk_offset is not None:  # the open chunk is rewritten later
+                cut = self._open_chunk_offset
+                self._chunk_indexes.pop()
+                self._open_chunk_offset = None
+            self._stream.seek(cut)
             self._stream.truncate()
             self._data_end = None
 

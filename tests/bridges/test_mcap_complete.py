@@ -59,6 +59,21 @@ def test_log_is_complete_after_each_step_call(tmp_path, scenes_dir):
     assert stock_read(path)[2] == counts  # closing writes the same complete file
 
 
+def test_many_short_calls_still_make_full_chunks(tmp_path, scenes_dir):
+    world = load_mjcf(scenes_dir / "free_bodies.xml").make_world()
+    path = tmp_path / "loop.mcap"
+    for k in range(30):
+        world.step(1, log=path)
+        summary, stats, counts = stock_read(path)  # complete after every call
+        assert counts["/abdsim/bodies"] == k + 2 and stats == counts
+    # The chunk left open at each return is rewritten, not cut: one chunk per 256 kB, not
+    # one per call.
+    assert summary.statistics.chunk_count == len(summary.chunk_indexes) <= 3
+    data = read_log(path)
+    np.testing.assert_array_equal(data.steps, np.arange(31))
+    np.testing.assert_array_equal(data.transforms[-1], world.transforms())
+
+
 def write_log(path, n_steps=120, n_bodies=3, compression="zstd"):
     rng = np.random.default_rng(7)
     T = np.tile(np.eye(4), (n_steps, n_bodies, 1, 1))
