@@ -11,6 +11,7 @@ import numpy as np
 
 from abdsim._native import _core
 from abdsim.constitution.rigid_body import _dyadic_of
+from abdsim.sim import pose as pose_math
 from abdsim.sim.contact_forces import ContactForces, rest_centers_of_mass, world_centers
 from abdsim.sim.scene import GROUND, BodyHandle, Scene
 from abdsim.sim.sensor_readings import BodyState, sensor_values
@@ -417,8 +418,30 @@ class World:
         return q_to_transforms(self._core.q)
 
     def velocities(self) -> np.ndarray:
-        """Time derivatives of the transforms dT/dt, (n_bodies, 4, 4) (bottom row zero)."""
+        """Time derivatives of the transforms dT/dt, (n_bodies, 4, 4) (bottom row zero).
+
+        For velocities in robotics' terms (v, ω in the world frame) see :meth:`twist`."""
         return q_to_transforms(self._core.q_dot, homogeneous=False)
+
+    def pose(self, body: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Position and quaternion ``[w, x, y, z]`` (MuJoCo's order, w >= 0) of the rotation
+        nearest to each body's ``A``: ((n_bodies, 3), (n_bodies, 4)), or one body's
+        ((3,), (4,)). See :mod:`abdsim.sim.pose`."""
+        p, q = pose_math.poses(self.transforms())
+        return (p, q) if body is None else (p[self._body(body)], q[self._body(body)])
+
+    def twist(self, body: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Linear velocity of each body's origin and angular velocity ω, both in the world
+        frame: ((n_bodies, 3), (n_bodies, 3)), or one body's ((3,), (3,)). MuJoCo's free-joint
+        ``qvel`` holds the same ``v`` and ``Rᵀ ω``. See :mod:`abdsim.sim.pose`."""
+        v, w = pose_math.twists(self.transforms(), self.velocities())
+        return (v, w) if body is None else (v[self._body(body)], w[self._body(body)])
+
+    def _body(self, body: int) -> int:
+        n = self.num_bodies
+        if isinstance(body, bool) or not isinstance(body, (int, np.integer)) or not 0 <= body < n:
+            raise IndexError(f"body must be an integer index in [0, {n}), got {body!r}")
+        return int(body)
 
     def vertices(self, handle: BodyHandle) -> np.ndarray:
         """World positions x = A x̄ + p of a geometry's vertices, (n_instances, nv, 3)."""
