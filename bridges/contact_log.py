@@ -187,26 +187,18 @@ def log_world_contacts(
         return False
     contacts = world.contacts()
     wrenches = world.contact_wrenches()
-    # The logger's namespace entry keeps its channels, so that close() closes these too.
+    # Channels of the logger's namespace entry (registered on first use).
     entry = logger._namespace(namespace, world.num_bodies)
     if len(entry.names) != len(wrenches):
         raise ValueError(
             f"{entry.name}: {len(entry.names)} bodies registered, the World has {len(wrenches)}"
-        )
-    channels = entry.channels
-    if "contacts" not in channels:
-        fox = logger._fox
-        channels["contacts"] = fox.Channel(
-            f"{entry.name}/contacts", schema=CONTACTS_SCHEMA, context=logger._context
-        )
-        channels["contact_arrows"] = fox.channels.SceneUpdateChannel(
-            f"{entry.name}/contact_arrows", context=logger._context
         )
     t_ns = logger._time_ns(time)
     msg = contacts_message(entry.names, contacts, wrenches)
     msg["timestamp"] = {"sec": t_ns // 1_000_000_000, "nsec": t_ns % 1_000_000_000}
     msg["step"] = int(world.step_count if step is None else step)
     msg["time"] = float(time)
-    channels["contacts"].log(_dumps(msg), log_time=t_ns)
-    channels["contact_arrows"].log(arrows_update(logger._fox, contacts, t_ns), log_time=t_ns)
+    logger._write(entry, "contacts", _dumps(msg), t_ns, CONTACTS_SCHEMA)
+    arrows = arrows_update(logger._fox, contacts, t_ns)
+    logger._write(entry, "contact_arrows", arrows.encode(), t_ns)
     return True

@@ -275,19 +275,22 @@ class McapLogger:
             self._log_scene(entry, meshes, kinds, time)
         return frames
 
-    def _channel(self, entry: _Namespace, kind: str) -> int:
-        """The MCAP channel id of ``NS/kind`` (registered with its schema on first use)."""
+    def _channel(self, entry: _Namespace, kind: str, json_schema: dict | None = None) -> int:
+        """The MCAP channel id of ``NS/kind`` (registered with its schema on first use):
+        Foxglove protobuf for ``tf`` and ``*scene``/``*arrows`` (SceneUpdate), else JSON with
+        ``json_schema`` (default: body states or diagnostics by kind)."""
         ch = entry.channels.get(kind)
         if ch is not None:
             return ch
         fm = self._fox.messages
-        if kind in ("tf", "scene"):
+        if kind in ("tf", "scene") or kind.endswith("arrows"):
             proto = fm.FrameTransforms if kind == "tf" else fm.SceneUpdate
             schema = proto.get_schema()
             name, encoding, data = schema.name, schema.encoding, schema.data
             msg_encoding = "protobuf"
         else:
-            json_schema = BODY_STATES_SCHEMA if kind == "bodies" else DIAGNOSTICS_SCHEMA
+            if json_schema is None:
+                json_schema = BODY_STATES_SCHEMA if kind == "bodies" else DIAGNOSTICS_SCHEMA
             name, encoding, msg_encoding = json_schema["title"], "jsonschema", "json"
             data = json.dumps(json_schema).encode("utf-8")
         if name not in self._schema_ids:
@@ -296,8 +299,10 @@ class McapLogger:
         entry.channels[kind] = ch
         return ch
 
-    def _write(self, entry: _Namespace, kind: str, data: bytes, t_ns: int) -> None:
-        self._writer.add_message(self._channel(entry, kind), t_ns, data)
+    def _write(
+        self, entry: _Namespace, kind: str, data: bytes, t_ns: int, json_schema: dict | None = None
+    ) -> None:
+        self._writer.add_message(self._channel(entry, kind, json_schema), t_ns, data)
 
     def _namespace(self, namespace: str | None, n: int | None = None) -> _Namespace:
         ns = _normalise_namespace(namespace or self.default_namespace)
