@@ -5,7 +5,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <memory>
+#include <string>
 #include <optional>
 
 #include "bindings/bind_contact_parts.h"
@@ -21,6 +23,8 @@ using contact::StencilKind;
 VecX flat_q(const py::array_t<double, py::array::c_style | py::array::forcecast>& q) {
   VecX out(q.size());
   std::copy(q.data(), q.data() + q.size(), out.data());
+  // The term checks the size; NaN would reach the BVHs and the CCD.
+  if (!out.allFinite()) throw std::invalid_argument("q contains NaN or infinite values");
   return out;
 }
 
@@ -43,10 +47,16 @@ std::shared_ptr<IpcContactTerm> make_term(
   if (!optional_size_ok(triangles.size()) || !optional_size_ok(edges.size()) ||
       !optional_size_ok(thickness.size()) || !optional_size_ok(self_collision.size()))
     throw std::invalid_argument("triangles, edges, thickness, self_collision: one per geometry");
+  if (!(std::isfinite(dt) && dt > 0.0)) throw std::invalid_argument("dt must be positive and finite");
   SceneData scene;
   scene.dt = dt;
   for (size_t g = 0; g < ng; ++g) {
     GeometryData geo;
+    if (!vertices[g].allFinite())
+      throw std::invalid_argument("geometry " + std::to_string(g) +
+                                  ": vertices contain NaN or infinite values");
+    if (!thickness.empty() && !thickness[g].allFinite())
+      throw std::invalid_argument("geometry " + std::to_string(g) + ": thickness is not finite");
     geo.rest_vertices = vertices[g];
     if (!triangles.empty()) geo.triangles = triangles[g];
     if (!edges.empty()) geo.edges = edges[g];
@@ -66,6 +76,8 @@ std::shared_ptr<IpcContactTerm> make_term(
     body.q_dot.setZero();
     body.is_fixed = is_fixed && (*is_fixed)[b];
     body.mass = mass ? (*mass)[b] : 1.0;
+    if (!(std::isfinite(body.mass) && body.mass > 0.0))
+      throw std::invalid_argument("body " + std::to_string(b) + ": mass must be positive and finite");
     scene.bodies.push_back(body);
   }
   return std::make_shared<IpcContactTerm>(scene, settings.value_or(ContactSettings{}));
