@@ -5,7 +5,9 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -35,6 +37,38 @@ VecX as_stacked(const MatX12& m, Eigen::Index n_bodies, const char* what) {
   VecX v(12 * m.rows());
   Eigen::Map<MatX12>(v.data(), m.rows(), 12) = m;
   return v;
+}
+
+// Every index of a geometry is checked here, where it enters from Python: the solver and the
+// contact code index vertices with them.
+template <class Cells>
+void check_cells(const Cells& C, Eigen::Index nv, const char* what) {
+  for (Eigen::Index c = 0; c < C.rows(); ++c)
+    for (Eigen::Index k = 0; k < C.cols(); ++k)
+      if (C(c, k) < 0 || C(c, k) >= nv)
+        throw std::out_of_range(std::string("add_geometry: ") + what + " " + std::to_string(c) +
+                                " has vertex index " + std::to_string(C(c, k)) +
+                                " out of range [0, " + std::to_string(nv) + ")");
+}
+
+void check_geometry(const MatX3& vertices, const MatX3i& triangles, const MatX2i& edges,
+                    const VecX& thickness, int dim) {
+  if (vertices.rows() == 0) throw std::invalid_argument("add_geometry: no vertices");
+  for (Eigen::Index i = 0; i < vertices.rows(); ++i)
+    if (!vertices.row(i).allFinite())
+      throw std::invalid_argument("add_geometry: vertex " + std::to_string(i) +
+                                  " has a NaN or infinite coordinate");
+  if (thickness.size() != vertices.rows())
+    throw std::invalid_argument("add_geometry: thickness must have one value per vertex (" +
+                                std::to_string(vertices.rows()) + "), got " +
+                                std::to_string(thickness.size()));
+  for (Eigen::Index i = 0; i < thickness.size(); ++i)
+    if (!(std::isfinite(thickness[i]) && thickness[i] >= 0.0))
+      throw std::invalid_argument("add_geometry: thickness of vertex " + std::to_string(i) +
+                                  " must be finite and >= 0");
+  check_cells(triangles, vertices.rows(), "triangle");
+  check_cells(edges, vertices.rows(), "edge");
+  if (dim < 1 || dim > 3) throw std::invalid_argument("add_geometry: dim must be 1, 2 or 3");
 }
 
 // An energy term written in Python: override name(), value(q), gradient(q) (12n array),
@@ -115,8 +149,7 @@ void bind_scene_data(py::module_& m) {
           "add_geometry",
           [](SceneData& s, const MatX3& vertices, const MatX3i& triangles, const MatX2i& edges,
              const VecX& thickness, int self_collision, int dim) {
-            if (thickness.size() != vertices.rows())
-              throw std::invalid_argument("thickness must have one value per vertex");
+            check_geometry(vertices, triangles, edges, thickness, dim);
             GeometryData g;
             g.rest_vertices = vertices;
             g.triangles = triangles;
@@ -136,6 +169,10 @@ void bind_scene_data(py::module_& m) {
              const Vec3& mass_x_bar, const Mat3& mass_x_bar_x_bar, const VecX& kappa,
              double volume, int constitution_uid, const VecXi& is_fixed,
              const VecXi& is_dynamic, const VecXi& external_kinetic) {
+            if (geometry < 0 || geometry >= static_cast<int>(s.geometries.size()))
+              throw std::out_of_range("add_bodies: geometry index " + std::to_string(geometry) +
+                                      " out of range [0, " +
+                                      std::to_string(s.geometries.size()) + ")");
             const Eigen::Index k = q.rows();
             if (q_dot.rows() != k || kappa.size() != k || is_fixed.size() != k ||
                 is_dynamic.size() != k || external_kinetic.size() != k)
@@ -177,16 +214,31 @@ void bind_scene_data(py::module_& m) {
           py::return_value_policy::reference_internal);
 }
 
+// q handed to a term from Python: 12 finite values per body (the C++ terms index it by body).
+const VecX& checked_q(const EnergyTerm& t, const VecX& q, const char* what = "q") {
+  if (q.size() % 12 != 0)
+    throw std::invalid_argument(std::string(what) + " must hold 12 values per body, got " +
+                                std::to_string(q.size()));
+  if (const auto* shape = dynamic_cast<const ShapeEnergyTerm*>(&t))
+    if (q.size() != 12 * Eigen::Index(shape->num_bodies()))
+      throw std::invalid_argument(std::string(what) + " must hold 12 x " +
+                                  std::to_string(shape->num_bodies()) + " values, got " +
+                                  std::to_string(q.size()));
+  if (!q.allFinite()) throw std::invalid_argument(std::string(what) + " is not finite");
+  return q;
+}
+
 void bind_terms(py::module_& m) {
   py::class_<EnergyTerm, std::shared_ptr<EnergyTerm>>(
       m, "EnergyTerm", "A potential in the incremental potential Π (unscaled).")
       .def("name", &EnergyTerm::name)
-      .def("value", &EnergyTerm::value, py::arg("q"))
+      .def("value", [](const EnergyTerm& t, const VecX& q) { return t.value(checked_q(t, q)); },
+           py::arg("q"))
       .def(
           "gradient",
           [](const EnergyTerm& t, const VecX& q) {
             VecX g = VecX::Zero(q.size());
-            t.add_gradient(q, 1.0, g);
+            t.add_gradient(checked_q(t, q), 1.0, g);
             return g;
           },
           py::arg("q"))
@@ -194,14 +246,21 @@ void bind_terms(py::module_& m) {
           "hessian",
           [](const EnergyTerm& t, const VecX& q) {
             std::vector<BodyBlock> blocks;
-            t.add_hessian(q, 1.0, blocks);
+            t.add_hessian(checked_q(t, q), 1.0, blocks);
             HessianBlocks out;
             out.reserve(blocks.size());
             for (const BodyBlock& b : blocks) out.emplace_back(b.row, b.col, b.H);
             return out;
           },
           py::arg("q"), "List of (row_body, col_body, 12x12 block).")
-      .def("max_step", &EnergyTerm::max_step, py::arg("q"), py::arg("dq"));
+      .def(
+          "max_step",
+          [](const EnergyTerm& t, const VecX& q, const VecX& dq) {
+            checked_q(t, dq, "dq");
+            if (dq.size() != q.size()) throw std::invalid_argument("dq must have the size of q");
+            return t.max_step(checked_q(t, q), dq);
+          },
+          py::arg("q"), py::arg("dq"));
 
   py::class_<PythonEnergyTerm, EnergyTerm, PythonEnergyTermTrampoline,
              std::shared_ptr<PythonEnergyTerm>>(m, "PythonEnergyTerm",
@@ -268,6 +327,7 @@ void bind_settings(py::module_& m) {
       .def_readonly("driven_bodies", &StepDiagnostics::driven_bodies)
       .def_readonly("kinematic_lag", &StepDiagnostics::kinematic_lag)
       .def_readonly("kinematic_lag_body", &StepDiagnostics::kinematic_lag_body)
+      .def_readonly("substeps", &StepDiagnostics::substeps)
       .def_readonly("linear_solver", &StepDiagnostics::linear_solver)
       .def_readonly("pcg_iterations", &StepDiagnostics::pcg_iterations)
       .def_readonly("wall_time", &StepDiagnostics::wall_time);

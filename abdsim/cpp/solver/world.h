@@ -120,6 +120,18 @@ class World {
     double shape = 0.0;
   };
   void newton_body(int b, double c2, Vec12& x, BodyNewton& r, std::vector<double>* alphas) const;
+  // step(): one solve of scene_.dt from the state into x_ / q_dot_new_, and its commit.
+  void solve_step(StepDiagnostics& d);
+  void commit_step();
+  // world_substeps.cpp: why the solved step (q_ -> x_) cannot be accepted ("" if it can):
+  // its straight-line motion crosses contact, or a body inverts or flattens.
+  std::string step_rejection() const;
+  // solve_step, then step_rejection; a SolverError's message is returned as the reason.
+  std::string try_step(StepDiagnostics& d);
+  bool path_crosses(const VecX& q0, const VecX& q1) const;
+  // Redoes the step as 2, 4, 8, ... substeps; throws SolverError (state unchanged) if even
+  // the finest fails, with `failure` (why the whole step failed) and the last reason.
+  void advance_in_substeps(const std::string& failure, StepDiagnostics& d);
   // world_coupled.cpp
   void solve_coupled(double c2, StepDiagnostics& d);
   void place_kinematic_bodies(StepDiagnostics& d);
