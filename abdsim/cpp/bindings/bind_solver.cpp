@@ -3,6 +3,8 @@
 // _core.EnergyTerm with a std::shared_ptr holder; Python terms subclass
 // _core.PythonEnergyTerm).
 #include <pybind11/eigen.h>
+
+#include <Eigen/SVD>
 #include <pybind11/stl.h>
 
 #include <cmath>
@@ -69,6 +71,28 @@ void check_geometry(const MatX3& vertices, const MatX3i& triangles, const MatX2i
   check_cells(triangles, vertices.rows(), "triangle");
   check_cells(edges, vertices.rows(), "edge");
   if (dim < 1 || dim > 3) throw std::invalid_argument("add_geometry: dim must be 1, 2 or 3");
+}
+
+// The 3x3 part A of a body state [p, a1, a2, a3] must be finite, proper (det A > 0: a mirror
+// turns the body inside out) and non-degenerate (condition number < 1e6).
+void check_affine(const Eigen::Ref<const Vec12>& q, const std::string& what) {
+  if (!q.allFinite()) throw std::invalid_argument(what + " is not finite");
+  Mat3 A;
+  for (int i = 0; i < 3; ++i) A.row(i) = q.segment<3>(3 + 3 * i).transpose();
+  const Vec3 sv = Eigen::JacobiSVD<Mat3>(A).singularValues();
+  if (!(sv[2] > 1e-6 * sv[0]))
+    throw std::invalid_argument(what + ": its 3x3 part A is degenerate (singular values " +
+                                std::to_string(sv[0]) + ", " + std::to_string(sv[1]) + ", " +
+                                std::to_string(sv[2]) + ")");
+  if (!(A.determinant() > 0.0))
+    throw std::invalid_argument(what + ": its 3x3 part A has det " +
+                                std::to_string(A.determinant()) +
+                                " <= 0 (a mirror); it must be proper");
+}
+
+void check_affine_rows(const MatX12& q, const std::string& what) {
+  for (Eigen::Index i = 0; i < q.rows(); ++i)
+    check_affine(q.row(i).transpose(), what + " of body " + std::to_string(i));
 }
 
 // An energy term written in Python: override name(), value(q), gradient(q) (12n array),
@@ -174,6 +198,7 @@ void bind_scene_data(py::module_& m) {
                                       " out of range [0, " +
                                       std::to_string(s.geometries.size()) + ")");
             const Eigen::Index k = q.rows();
+            check_affine_rows(q, "add_bodies: q");
             if (q_dot.rows() != k || kappa.size() != k || is_fixed.size() != k ||
                 is_dynamic.size() != k || external_kinetic.size() != k)
               throw std::invalid_argument(
@@ -375,17 +400,24 @@ void bind_world(py::module_& m) {
       .def(
           "set_state",
           [](World& w, const MatX12& q, const MatX12& q_dot) {
+            check_affine_rows(q, "set_state: q");
             w.set_state(as_stacked(q, w.num_bodies(), "q"),
                         as_stacked(q_dot, w.num_bodies(), "q_dot"));
           },
           py::arg("q"), py::arg("q_dot"))
-      .def("set_kinematic_target", &World::set_kinematic_target, py::arg("body"),
-           py::arg("q_target"))
+      .def(
+          "set_kinematic_target",
+          [](World& w, int body, const Vec12& q) {
+            check_affine(q, "kinematic target");
+            w.set_kinematic_target(body, q);
+          },
+          py::arg("body"), py::arg("q_target"))
       .def(
           "set_kinematic_targets",
           [](World& w, const VecXi& bodies, const MatX12& q) {
             if (q.rows() != bodies.size())
               throw std::invalid_argument("set_kinematic_targets: one (12,) row per body");
+            check_affine_rows(q, "kinematic target");
             for (Eigen::Index i = 0; i < bodies.size(); ++i)
               w.set_kinematic_target(bodies[i], q.row(i).transpose());
           },
