@@ -128,6 +128,7 @@ class World {
   std::string step_rejection() const;
   // solve_step, then step_rejection; a SolverError's message is returned as the reason.
   std::string try_step(StepDiagnostics& d);
+  std::string applied_tolerances() const;  // "" or the per-body tolerances of the last solve
   bool path_crosses(const VecX& q0, const VecX& q1) const;
   // Redoes the step as 2, 4, 8, ... substeps; throws SolverError (state unchanged) if even
   // the finest fails, with `failure` (why the whole step failed) and the last reason.

@@ -61,8 +61,22 @@ std::string World::try_step(StepDiagnostics& d) {
     solve_step(d);
     return step_rejection();
   } catch (const SolverError& e) {
-    return e.what();
+    return e.what() + applied_tolerances();
   }
+}
+
+// The coupled solve holds bodies near contact to tighter tolerances than the settings (scaled
+// to their size): a "did not converge" message quoting the settings' tolerances would show a
+// last step that already meets them. Say which tolerance was actually applied.
+std::string World::applied_tolerances() const {
+  if (tol_translation_.size() != n_ || tol_affine_.size() != n_ || n_ == 0) return "";
+  Eigen::Index bt = 0, ba = 0;
+  const double t = tol_translation_.minCoeff(&bt), a = tol_affine_.minCoeff(&ba);
+  if (t >= settings_.tol_translation && a >= settings_.tol_affine) return "";
+  std::ostringstream os;
+  os << "; the tolerances applied to bodies near contact are tighter than the settings: "
+     << t << " m/s (" << describe(int(bt)) << "), " << a << " 1/s (" << describe(int(ba)) << ")";
+  return os.str();
 }
 
 bool World::path_crosses(const VecX& q0, const VecX& q1) const {
