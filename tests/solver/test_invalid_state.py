@@ -135,3 +135,14 @@ def test_a_kinematic_body_cannot_crush_a_dynamic_one():
             world.step()
             assert np.linalg.det(world.q[box.body(), 3:].reshape(3, 3)) >= 1e-2
     assert np.linalg.det(world.q[box.body(), 3:].reshape(3, 3)) >= 1e-2
+
+
+def test_vertices_removed_after_apply_to_are_refused_by_world():
+    sc = _box()
+    sc.vertices.resize(3)  # the 12 triangles now refer to vertices 3..7 that are gone
+    scene = abdsim.Scene()
+    scene.add(sc)
+    with pytest.raises(
+        ValueError, match=r"geometry 0: triangle \d+ refers to vertex .* 3 vertices"
+    ):
+        abdsim.World(scene)
