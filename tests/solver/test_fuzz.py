@@ -251,3 +251,19 @@ def test_the_fuzz_saw_both_outcomes():
     assert m == pytest.approx(1.0)
     with pytest.raises(IndexError):
         _core.tet_mesh_mass(V, np.array([[0, 1, 2, 4]], np.int32), 6.0)
+
+
+CONTACT_FIELDS = ["d_hat", "kappa", "mu", "eps_v", "ground_height", "ccd_target"]
+SOLVER_FIELDS = ["tol_translation", "tol_affine", "armijo_c", "ccd_safety", "pcg_tolerance"]
+
+
+@FUZZ
+@given(st.sampled_from(CONTACT_FIELDS + SOLVER_FIELDS), values)
+def test_core_settings_refuse_non_finite_values(name, value):
+    s = _core.contact.ContactSettings() if name in CONTACT_FIELDS else _core.SolverSettings()
+    try:
+        setattr(s, name, value)
+    except REFUSED:
+        assert not np.isfinite(value)
+        return
+    assert np.isfinite(value) and getattr(s, name) == value

@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "bindings/bind_contact_parts.h"
+#include "bindings/checked_property.h"
 #include "contact/ipc_contact_term.h"
 
 namespace py = pybind11;
@@ -119,17 +120,18 @@ void bind_settings(py::module_& m) {
       .def_readwrite("enabled", &ContactRule::enabled)
       .def_readwrite("mu", &ContactRule::mu);
 
-  py::class_<ContactSettings>(m, "ContactSettings", "Settings of the IPC contact term.")
-      .def(py::init<>())
-      .def_readwrite("d_hat", &ContactSettings::d_hat, "barrier activation distance (m)")
-      .def_readwrite("kappa", &ContactSettings::kappa, "contact stiffness; <= 0: adaptive")
-      .def_readwrite("mu", &ContactSettings::mu, "default friction coefficient")
-      .def_readwrite("eps_v", &ContactSettings::eps_v, "friction smoothing speed (m/s)")
+  py::class_<ContactSettings> settings(m, "ContactSettings", "Settings of the IPC contact term.");
+  const char* type = "ContactSettings";
+  def_finite(settings, type, "d_hat", &ContactSettings::d_hat, "barrier activation distance (m)");
+  def_finite(settings, type, "kappa", &ContactSettings::kappa, "contact stiffness; <= 0: adaptive");
+  def_finite(settings, type, "mu", &ContactSettings::mu, "default friction coefficient");
+  def_finite(settings, type, "eps_v", &ContactSettings::eps_v, "friction smoothing speed (m/s)");
+  def_finite(settings, type, "ground_height", &ContactSettings::ground_height);
+  def_finite(settings, type, "ccd_target", &ContactSettings::ccd_target);
+  settings.def(py::init<>())
       .def_readwrite("ground", &ContactSettings::ground)
-      .def_readwrite("ground_height", &ContactSettings::ground_height)
       .def_readwrite("ground_contact_element", &ContactSettings::ground_contact_element)
       .def_readwrite("body_contact_element", &ContactSettings::body_contact_element)
-      .def_readwrite("ccd_target", &ContactSettings::ccd_target)
       .def_readwrite("project_hessian", &ContactSettings::project_hessian)
       .def(
           "set_contact_table",

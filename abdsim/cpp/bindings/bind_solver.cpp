@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "bindings/bindings.h"
+#include "bindings/checked_property.h"
 #include "solver/energy_term.h"
 #include "solver/shape_energy_term.h"
 #include "solver/world.h"
@@ -312,20 +313,22 @@ void bind_settings(py::module_& m) {
       .value("DIRECT", LinearSolverKind::kDirect)
       .value("PCG", LinearSolverKind::kPCG);
 
-  py::class_<SolverSettings>(m, "SolverSettings", "Settings of the implicit time stepper.")
-      .def(py::init<>())
+  py::class_<SolverSettings> settings(m, "SolverSettings", "Settings of the implicit time stepper.");
+  const char* type = "SolverSettings";
+  def_finite(settings, type, "tol_translation", &SolverSettings::tol_translation);
+  def_finite(settings, type, "tol_affine", &SolverSettings::tol_affine);
+  def_finite(settings, type, "armijo_c", &SolverSettings::armijo_c);
+  def_finite(settings, type, "ccd_safety", &SolverSettings::ccd_safety);
+  def_finite(settings, type, "pcg_tolerance", &SolverSettings::pcg_tolerance);
+  def_finite(settings, type, "kinematic_drive_stiffness",
+             &SolverSettings::kinematic_drive_stiffness);
+  settings.def(py::init<>())
       .def_readwrite("integrator", &SolverSettings::integrator)
-      .def_readwrite("tol_translation", &SolverSettings::tol_translation)
-      .def_readwrite("tol_affine", &SolverSettings::tol_affine)
       .def_readwrite("max_newton_iterations", &SolverSettings::max_newton_iterations)
-      .def_readwrite("armijo_c", &SolverSettings::armijo_c)
       .def_readwrite("max_line_search_iterations", &SolverSettings::max_line_search_iterations)
-      .def_readwrite("ccd_safety", &SolverSettings::ccd_safety)
       .def_readwrite("linear_solver", &SolverSettings::linear_solver)
       .def_readwrite("direct_max_dofs", &SolverSettings::direct_max_dofs)
-      .def_readwrite("pcg_tolerance", &SolverSettings::pcg_tolerance)
       .def_readwrite("pcg_max_iterations", &SolverSettings::pcg_max_iterations)
-      .def_readwrite("kinematic_drive_stiffness", &SolverSettings::kinematic_drive_stiffness)
       .def_readwrite("project_psd", &SolverSettings::project_psd)
       .def_readwrite("num_threads", &SolverSettings::num_threads);
 
