@@ -267,3 +267,27 @@ def test_core_settings_refuse_non_finite_values(name, value):
         assert not np.isfinite(value)
         return
     assert np.isfinite(value) and getattr(s, name) == value
+
+
+@FUZZ
+@given(
+    st.lists(values, min_size=24, max_size=24),
+    st.sampled_from(["point_triangle", "edge_edge"]),
+    st.sampled_from([0.0, 0.1, 1.0, np.nan]),
+)
+def test_ccd_and_distances_refuse_non_finite_points(coords, kind, target):
+    x = np.array(coords).reshape(8, 3)
+    ccd = getattr(_core.contact, f"{kind}_ccd")
+    distance = getattr(_core.contact, f"{kind}_distance")
+    try:
+        toi = ccd(*x, target=target)
+    except REFUSED:
+        assert not (np.isfinite(x).all() and 0 < target < 1)
+    else:
+        assert np.isfinite(x).all() and 0.0 <= toi <= 1.0
+    try:
+        d2 = distance(*x[:4])
+    except REFUSED:
+        assert not np.isfinite(x[:4]).all()
+    else:
+        assert np.isfinite(x[:4]).all() and d2 >= 0
