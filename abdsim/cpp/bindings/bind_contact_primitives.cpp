@@ -172,7 +172,8 @@ CcdOptions ccd_options(double min_distance, double tmax, double target, long max
     throw std::invalid_argument("CCD: min_distance must be finite and >= 0");
   if (!(std::isfinite(tmax) && tmax > 0.0))
     throw std::invalid_argument("CCD: tmax must be finite and > 0");
-  if (!(target > 0.0 && target < 1.0)) throw std::invalid_argument("CCD: target must lie in (0, 1)");
+  if (!(target > 0.0 && target < 1.0))
+    throw std::invalid_argument("CCD: target must lie in (0, 1)");
   if (max_iterations < 0) throw std::invalid_argument("CCD: max_iterations must be >= 0");
   CcdOptions o;
   o.min_distance = min_distance;
@@ -214,7 +215,8 @@ void bind_ccd(py::module_& m) {
       [](const Vec3& p0, const Vec3& p1, double height, double min_distance, double tmax,
          double target) {
         check_points("point_ground_ccd", p0, p1);
-        if (!std::isfinite(height)) throw std::invalid_argument("point_ground_ccd: height must be finite");
+        if (!std::isfinite(height))
+          throw std::invalid_argument("point_ground_ccd: height must be finite");
         return point_ground_ccd(p0, p1, height, ccd_options(min_distance, tmax, target, 0));
       },
       py::arg("p_t0"), py::arg("p_t1"), py::arg("height"), py::arg("min_distance") = 0.0,

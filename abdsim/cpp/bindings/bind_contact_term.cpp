@@ -48,7 +48,8 @@ std::shared_ptr<IpcContactTerm> make_term(
   if (!optional_size_ok(triangles.size()) || !optional_size_ok(edges.size()) ||
       !optional_size_ok(thickness.size()) || !optional_size_ok(self_collision.size()))
     throw std::invalid_argument("triangles, edges, thickness, self_collision: one per geometry");
-  if (!(std::isfinite(dt) && dt > 0.0)) throw std::invalid_argument("dt must be positive and finite");
+  if (!(std::isfinite(dt) && dt > 0.0))
+    throw std::invalid_argument("dt must be positive and finite");
   SceneData scene;
   scene.dt = dt;
   for (size_t g = 0; g < ng; ++g) {
@@ -78,7 +79,8 @@ std::shared_ptr<IpcContactTerm> make_term(
     body.is_fixed = is_fixed && (*is_fixed)[b];
     body.mass = mass ? (*mass)[b] : 1.0;
     if (!(std::isfinite(body.mass) && body.mass > 0.0))
-      throw std::invalid_argument("body " + std::to_string(b) + ": mass must be positive and finite");
+      throw std::invalid_argument("body " + std::to_string(b) +
+                                  ": mass must be positive and finite");
     scene.bodies.push_back(body);
   }
   return std::make_shared<IpcContactTerm>(scene, settings.value_or(ContactSettings{}));

@@ -313,7 +313,8 @@ void bind_settings(py::module_& m) {
       .value("DIRECT", LinearSolverKind::kDirect)
       .value("PCG", LinearSolverKind::kPCG);
 
-  py::class_<SolverSettings> settings(m, "SolverSettings", "Settings of the implicit time stepper.");
+  py::class_<SolverSettings> settings(m, "SolverSettings",
+                                      "Settings of the implicit time stepper.");
   const char* type = "SolverSettings";
   def_finite(settings, type, "tol_translation", &SolverSettings::tol_translation);
   def_finite(settings, type, "tol_affine", &SolverSettings::tol_affine);
