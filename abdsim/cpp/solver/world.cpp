@@ -234,6 +234,7 @@ const StepDiagnostics& World::step() {
   const std::string failure = try_step(d);
   if (failure.empty()) {
     commit_step();
+    remember_gap(d);
   } else {
     advance_in_substeps(failure, d);
   }

@@ -126,6 +126,9 @@ class World {
   // world_substeps.cpp: why the solved step (q_ -> x_) cannot be accepted ("" if it can):
   // its straight-line motion crosses contact, or a body inverts or flattens.
   std::string step_rejection() const;
+  // After a commit: the smallest contact gap at the new state (min(gap within d̂, d̂)), so that
+  // the next step's chord check can be skipped when no vertex moves far enough to close it.
+  void remember_gap(const StepDiagnostics& d);
   // solve_step, then step_rejection; a SolverError's message is returned as the reason.
   std::string try_step(StepDiagnostics& d);
   std::string applied_tolerances() const;  // "" or the per-body tolerances of the last solve
@@ -191,6 +194,10 @@ class World {
   VecX damping_, alpha_, island_E_, island_E_new_, island_slope_, body_E_, body_E_new_, bound_;
   BlockSystem system_;
   std::vector<BodyBlock> blocks_;
+  // remember_gap: the gap, the state and the kinematic flags it was measured with.
+  double gap_ = 0.0;
+  VecX gap_q_;
+  std::vector<std::uint8_t> gap_kinematic_;
   StepDiagnostics diag_;
   std::deque<StepDiagnostics> history_;
   std::size_t history_limit_ = 10000;

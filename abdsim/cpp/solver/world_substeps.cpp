@@ -79,9 +79,29 @@ std::string World::applied_tolerances() const {
   return os.str();
 }
 
+void World::remember_gap(const StepDiagnostics& d) {
+  if (!contact_) return;
+  gap_ = std::min(d.min_contact_distance, contact_->settings().d_hat);
+  gap_q_ = q_;
+  gap_kinematic_ = kinematic_;
+}
+
 bool World::path_crosses(const VecX& q0, const VecX& q1) const {
   if (!contact_) return false;
   const VecX dq = q1 - q0;
+  // The distance between two primitives changes by at most the sum of their vertices'
+  // displacements, and a vertex of body b moves by at most |Δp| + |ΔA|_F max|x̄|. If no two
+  // bodies together move by half the smallest gap at q0 (known from the last commit, if q0
+  // and the kinematic flags are still those), nothing can cross: no CCD needed. This skips
+  // the swept query for resting and slowly moving contact.
+  if (gap_q_.size() == q0.size() && gap_ > 0.0 && kinematic_ == gap_kinematic_ && gap_q_ == q0) {
+    double largest = 0.0;
+    for (int b = 0; b < n_; ++b) {
+      const auto d = dq.segment<12>(12 * b);
+      largest = std::max(largest, d.head<3>().norm() + d.tail<9>().norm() * extent_[b]);
+    }
+    if (2.0 * largest < 0.5 * gap_) return false;
+  }
   double t = 0.0;
   for (int k = 0; k < kCrossingRestarts; ++k) {
     const double alpha = contact_->max_step(q0 + t * dq, (1.0 - t) * dq);
@@ -137,6 +157,7 @@ void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) 
     const std::string why = try_step(piece);
     if (why.empty()) {
       commit_step();
+      remember_gap(piece);
       accumulate(piece, total);
       ++s.pieces;
       return true;
