@@ -5,7 +5,7 @@ One affine body per **Pinocchio joint** that carries collision geometry. Pinocch
 (``model.inertias[j]`` is the merged inertia). abdsim does the same: the links of one
 Pinocchio joint form one rigid group, their collision geometries are merged into one surface
 (vertices in the joint frame), the body's pose is the joint frame's world placement
-``data.oMi[j]`` and its mass properties are exactly ``model.inertias[j]`` (mass, lever =
+``oMi[j]`` and its mass properties are exactly ``model.inertias[j]`` (mass, lever =
 centre of mass in the joint frame, inertia about the centre). The body is named after the
 link that owns the group's first collision geometry; :attr:`LoadedBody.links` lists every
 link of the group.
@@ -23,6 +23,7 @@ import warnings
 import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import trimesh
@@ -91,6 +92,7 @@ def load_urdf(
     urdf = check_file(path, "URDF", (".urdf", ".xml"))
     dirs = _package_dirs(urdf, package_dirs)
     root = _parse_xml(urdf)
+    _check_tree(root, urdf)
     link_mass = _check_inertials(root, urdf)
     collisions = _check_collision_meshes(root, urdf, dirs)
 
@@ -104,12 +106,11 @@ def load_urdf(
     except (ValueError, RuntimeError, OSError) as e:
         raise LoaderError(f"Pinocchio could not load URDF {urdf}: {e}") from e
     model, collision_model = built[0], built[1]
-    data = model.createData()
     _check_all_collisions_loaded(collision_model, model, collisions, urdf)
 
     q = _configuration(pin, model, q, "q", model.nq)
     v = np.zeros(model.nv) if v is None else _configuration(pin, model, v, "v", model.nv)
-    pin.forwardKinematics(model, data, q, v)
+    kin = joint_kinematics(pin, model, q, v)
 
     notes: list[str] = []
     geoms_of: dict[int, list] = {}
@@ -122,12 +123,14 @@ def load_urdf(
                 "supported (only a floating root)"
             )
 
+    links_of: dict[int, list[str]] = {}  # one pass over the frames: linear in the links
+    for f in model.frames:
+        if f.type == pin.FrameType.BODY:
+            links_of.setdefault(int(f.parentJoint), []).append(f.name)
     bodies: list[LoadedBody] = []
     body_of_joint: dict[int, int] = {}
     for j in range(model.njoints):
-        links = [
-            f.name for f in model.frames if f.type == pin.FrameType.BODY and f.parentJoint == j
-        ]
+        links = links_of.get(j, [])
         geoms = geoms_of.get(j, [])
         inertia = model.inertias[j]
         if not geoms:
@@ -152,9 +155,9 @@ def load_urdf(
         else:
             kind = "dynamic" if _is_floating_root(model, j) else "kinematic"
             mass = _joint_mass(model, j, links, link_mass, mass_density)
-        oMi = data.oMi[j]
+        oMi, vj = kin.oMi[j], kin.v[j]
         R = np.array(oMi.rotation)
-        velocity = velocity_matrix(R, R @ data.v[j].angular, R @ data.v[j].linear)
+        velocity = velocity_matrix(R, R @ vj.angular, R @ vj.linear)
         body = make_body(
             name,
             kind,
@@ -179,7 +182,7 @@ def load_urdf(
         source=urdf,
         format="urdf",
         bodies=bodies,
-        joints=_joints(model, data, body_of_joint, bodies),
+        joints=_joints(model, kin, body_of_joint, bodies),
         model=model,
         collision_model=collision_model,
         q=q,
@@ -214,6 +217,92 @@ def _parse_xml(urdf: Path) -> ET.Element:
     if root.find("link") is None:
         raise LoaderError(f"URDF {urdf} has no <link>")
     return root
+
+
+_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+
+
+def _vector_attr(elem: ET.Element | None, key: str, where: str) -> np.ndarray | None:
+    """3 finite numbers in attribute ``key`` of ``elem`` (None if absent)."""
+    raw = None if elem is None else elem.get(key)
+    if raw is None:
+        return None
+    try:
+        vec = np.array([float(x) for x in raw.split()])
+    except ValueError:
+        vec = np.array([])
+    if vec.shape != (3,) or not np.isfinite(vec).all():
+        raise LoaderError(f"{where}: <{elem.tag} {key}={raw!r}> must be 3 finite numbers")
+    return vec
+
+
+def _check_tree(root: ET.Element, urdf: Path) -> None:
+    """Links and joints form one tree, every joint is complete: errors name the element.
+
+    Pinocchio (urdfdom) reports any of these as "does not contain a valid URDF model".
+    """
+    names: set[str] = set()
+    # direct children only: <transmission> and <gazebo> blocks also hold <joint>/<link> tags
+    for k, link in enumerate(root.findall("link")):
+        name = link.get("name")
+        if not name:
+            raise LoaderError(f"URDF {urdf.name}: <link> number {k} has no name")
+        if name in names:
+            raise LoaderError(f"URDF {urdf.name}: two links are named {name!r}")
+        names.add(name)
+    parent_of: dict[str, str] = {}
+    children: dict[str, list[str]] = {}
+    joint_names: set[str] = set()
+    for k, joint in enumerate(root.findall("joint")):
+        jname = joint.get("name")
+        if not jname:
+            raise LoaderError(f"URDF {urdf.name}: <joint> number {k} has no name")
+        where = f"URDF {urdf.name}, joint {jname!r}"
+        if jname in joint_names:
+            raise LoaderError(f"URDF {urdf.name}: two joints are named {jname!r}")
+        joint_names.add(jname)
+        kind = joint.get("type")
+        if kind not in _JOINT_TYPES:
+            raise LoaderError(f"{where}: type {kind!r} is not one of {list(_JOINT_TYPES)}")
+        ends = {}
+        for end in ("parent", "child"):
+            elem = joint.find(end)
+            link = elem.get("link") if elem is not None else None
+            if not link:
+                raise LoaderError(f"{where}: no <{end} link=...>")
+            if link not in names:
+                raise LoaderError(f"{where}: {end} link {link!r} does not exist")
+            ends[end] = link
+        if ends["child"] in parent_of:
+            raise LoaderError(
+                f"{where}: link {ends['child']!r} is already the child of link "
+                f"{parent_of[ends['child']]!r} (a link has one parent joint)"
+            )
+        parent_of[ends["child"]] = ends["parent"]
+        children.setdefault(ends["parent"], []).append(ends["child"])
+        origin = joint.find("origin")
+        _vector_attr(origin, "xyz", where)
+        _vector_attr(origin, "rpy", where)
+        axis = _vector_attr(joint.find("axis"), "xyz", where)
+        if axis is not None and kind != "fixed" and not np.linalg.norm(axis) > 0:
+            raise LoaderError(f"{where}: <axis xyz> is zero")
+        if kind in ("revolute", "prismatic") and joint.find("limit") is None:
+            raise LoaderError(f"{where}: a {kind} joint needs a <limit>")
+    roots = [n for n in names if n not in parent_of]
+    if len(roots) != 1:
+        raise LoaderError(
+            f"URDF {urdf.name}: the links form {'no tree (a cycle)' if not roots else 'a forest'}"
+            f"; root links (no parent joint): {sorted(roots)[:10]}"
+        )
+    reached, stack = {roots[0]}, [roots[0]]
+    while stack:  # iterative: a 2,000-link chain is deeper than Python's recursion limit
+        for child in children.get(stack.pop(), []):
+            if child not in reached:
+                reached.add(child)
+                stack.append(child)
+    if len(reached) != len(names):
+        cut = sorted(names - reached)[:10]
+        raise LoaderError(f"URDF {urdf.name}: links {cut} are in a cycle, not below the root")
 
 
 def _float_attr(elem: ET.Element, key: str, where: str) -> float:
@@ -340,6 +429,41 @@ def _configuration(pin, model, value, what: str, n: int) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------------------------------
+# Kinematics
+# ---------------------------------------------------------------------------------------------
+class Kinematics(NamedTuple):
+    """Per joint: world placement oMi (pinocchio.SE3), spatial velocity in the joint frame
+    (pinocchio.Motion) and motion subspace S (6, nv_j)."""
+
+    oMi: list
+    v: list
+    S: list
+
+
+def joint_kinematics(pin, model, q: np.ndarray, v: np.ndarray) -> Kinematics:
+    """Pinocchio's forward kinematics (oMi, v, S) without a ``pinocchio.Data``.
+
+    ``model.createData()`` allocates dense buffers for every algorithm (nv x nv matrices and
+    larger): a 400-joint chain took 4 GB and 2,000 joints ran out of memory. Placements and
+    velocities need only one pass down the tree (parents precede children):
+    oMi = oMi[parent] · jointPlacement · M_j(q), v = v_j(q, v) + (liMi)⁻¹ · v[parent].
+    """
+    n = model.njoints
+    oMi, vel, S = [pin.SE3.Identity()] * n, [pin.Motion.Zero()] * n, [np.zeros((6, 0))] * n
+    for j in range(1, n):
+        joint = model.joints[j]
+        jdata = joint.createData()
+        joint.calc(jdata, q, v)
+        liMi = model.jointPlacements[j] * jdata.M
+        parent = model.parents[j]
+        oMi[j] = oMi[parent] * liMi
+        vj = pin.Motion(jdata.v)
+        vel[j] = vj + liMi.actInv(vel[parent]) if parent > 0 else vj
+        S[j] = np.array(jdata.S)
+    return Kinematics(oMi, vel, S)
+
+
+# ---------------------------------------------------------------------------------------------
 # Bodies
 # ---------------------------------------------------------------------------------------------
 def _is_floating_root(model, j: int) -> bool:
@@ -355,25 +479,25 @@ def _parent_body(model, j: int, body_of_joint: dict[int, int]) -> int | None:
     return None
 
 
-def _joints(model, data, body_of_joint: dict[int, int], bodies) -> list[JointInfo]:
+def _joints(model, kin: Kinematics, body_of_joint: dict[int, int], bodies) -> list[JointInfo]:
     out = []
     for j, i in body_of_joint.items():
         if j == 0:
             continue
-        joint, R = model.joints[j], np.array(data.oMi[j].rotation)
+        joint, R = model.joints[j], np.array(kin.oMi[j].rotation)
         kind, axis = "other", None
         if joint.shortname() == _FREE_FLYER:
             kind = "free"
         elif joint.shortname() == "JointModelSpherical":
             kind = "ball"
         elif joint.nv == 1:
-            S = np.array(data.joints[j].S).reshape(-1)
+            S = kin.S[j].reshape(-1)
             if np.linalg.norm(S[3:]) > 0:
                 kind, axis = "revolute", R @ S[3:]
             else:
                 kind, axis = "prismatic", R @ S[:3]
             axis = axis / np.linalg.norm(axis)
-        anchor = np.array(data.oMi[j].translation)
+        anchor = np.array(kin.oMi[j].translation)
         out.append(JointInfo(model.names[j], kind, bodies[i].parent, i, anchor, axis))
     return out
 

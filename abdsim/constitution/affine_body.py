@@ -76,6 +76,7 @@ class AffineBodyConstitution:
             ValueError: non-positive κ or density, an open / non-manifold / inconsistently
                 oriented surface, or a non-positive volume.
         """
+        check.check_mesh_arrays(sc)
         kappa = self._check_kappa(kappa)
         rho = _positive_finite("mass_density", mass_density)
         v = sc.positions
@@ -147,6 +148,7 @@ class _CodimConstitution(AffineBodyConstitution):
             ValueError: the wrong kind of mesh, degenerate simplices, non-positive κ,
                 density or thickness.
         """
+        check.check_mesh_arrays(sc, thickness=False)  # apply_to writes the thickness
         self._check_mesh(sc)
         kappa = self._check_kappa(kappa)
         rho = _positive_finite("mass_density", mass_density)

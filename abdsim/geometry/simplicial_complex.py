@@ -26,7 +26,8 @@ class SimplicialComplex:
 
     Raises:
         ValueError: on wrong shapes, non-finite vertices, out-of-range or repeated indices,
-            negatively oriented or degenerate tetrahedra.
+            negatively oriented or degenerate tetrahedra, mirror (det <= 0) or degenerate
+            transforms.
     """
 
     def __init__(
@@ -126,6 +127,7 @@ class SimplicialComplex:
             )
         if not np.isfinite(t).all():
             raise ValueError("transforms contain NaN or infinite values")
+        check.check_transforms(t, "transform of instance")
         self.instances["transform"] = t
 
     def __repr__(self) -> str:

@@ -108,3 +108,80 @@ def boundary_faces(tets: np.ndarray) -> np.ndarray:
     key = np.sort(faces, axis=1)
     _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
     return np.ascontiguousarray(faces[counts[inverse.ravel()] == 1].astype(np.int32))
+
+
+def check_mesh_arrays(sc: object, where: str = "geometry", thickness: bool = True) -> None:
+    """Re-check a SimplicialComplex whose attributes may have been edited in place.
+
+    Rest positions (shape, NaN/inf), every simplex index against the current vertex count,
+    and (if ``thickness``) a per-vertex ``thickness``: finite, positive for shells and rods
+    (meta ``is_codim = 1``), >= 0 otherwise.
+
+    Raises:
+        ValueError: naming ``where`` and the offending element.
+    """
+    v = np.asarray(sc.vertices["position"])  # type: ignore[attr-defined]
+    if v.ndim != 2 or v.shape[1] != 3 or len(v) == 0:
+        raise ValueError(f"{where}: rest positions must have shape (n, 3), got {v.shape}")
+    bad = ~np.isfinite(v).all(axis=1)
+    if bad.any():
+        raise ValueError(
+            f"{where}: rest position of vertex {int(np.argmax(bad))} is NaN or infinite"
+        )
+    nv = len(v)
+    for what, cells in (
+        ("tetrahedron", sc.tetrahedra),  # type: ignore[attr-defined]
+        ("triangle", sc.triangles),  # type: ignore[attr-defined]
+        ("edge", sc.edges),  # type: ignore[attr-defined]
+    ):
+        c = np.asarray(cells)
+        if c.size and (c.min() < 0 or c.max() >= nv):
+            row = int(np.argmax(((c < 0) | (c >= nv)).any(axis=1)))
+            raise ValueError(
+                f"{where}: {what} {row} refers to vertex {c[row].tolist()} but the mesh has "
+                f"{nv} vertices (were vertices removed after the mesh was built?)"
+            )
+    if thickness and "thickness" in sc.vertices:  # type: ignore[attr-defined]
+        r = np.asarray(sc.vertices["thickness"], dtype=np.float64).reshape(-1)  # type: ignore[attr-defined]
+        if r.shape != (nv,):
+            raise ValueError(f"{where}: thickness needs {nv} values (one per vertex), got {r.size}")
+        meta = sc.meta  # type: ignore[attr-defined]
+        codim = "is_codim" in meta and int(meta["is_codim"]) == 1
+        bad = ~(np.isfinite(r) & ((r > 0) if codim else (r >= 0)))
+        if bad.any():
+            i = int(np.argmax(bad))
+            need = "positive" if codim else ">= 0"
+            raise ValueError(
+                f"{where}: thickness of vertex {i} must be {need} and finite, got {r[i]}"
+            )
+
+
+def check_transforms(T: np.ndarray, what: str = "transforms") -> None:
+    """Affine transforms (n, 4, 4) must be proper and non-degenerate.
+
+    The linear part A must have det A > 0 (a mirror turns surfaces inside out and the mass
+    matrix's orientation with them) and a condition number below 1e6 (a flat A makes the
+    body's surfaces and bounding volumes degenerate).
+
+    Raises:
+        ValueError: naming the instance and its det / singular values.
+    """
+    A = np.asarray(T, dtype=np.float64)[:, :3, :3]
+    if len(A) == 0:
+        return
+    sv = np.linalg.svd(A, compute_uv=False)
+    det = np.linalg.det(A)
+    flat = sv[:, -1] <= 1e-6 * sv[:, 0]
+    if flat.any():
+        i = int(np.argmax(flat))
+        raise ValueError(
+            f"{what} {i}: the 3x3 part is degenerate (singular values {sv[i].tolist()}): a "
+            "body cannot be flattened to a plane, a line or a point"
+        )
+    improper = det <= 0
+    if improper.any():
+        i = int(np.argmax(improper))
+        raise ValueError(
+            f"{what} {i}: the 3x3 part has det {det[i]:.6g} <= 0 (a mirror); transforms must "
+            "be proper (rotation, scale, shear with det > 0)"
+        )

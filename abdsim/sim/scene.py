@@ -113,7 +113,8 @@ class Scene:
         **kwargs: any other ``SceneSettings`` field (``newton_tol_translation=...``).
 
     Raises:
-        ValueError: for a setting out of range; TypeError for an unknown setting.
+        ValueError: for a setting out of range; TypeError for an unknown setting or one of
+            the wrong type (``dt=True``, ``contact="False"``).
     """
 
     def __init__(

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, fields
 from typing import Literal
 
@@ -15,6 +16,41 @@ _LINEAR_SOLVERS = {
     "auto": _core.LinearSolver.AUTO,
     "direct": _core.LinearSolver.DIRECT,
     "pcg": _core.LinearSolver.PCG,
+}
+
+
+# The type each setting must have (checked by SceneSettings.validate).
+_KINDS: dict[str, type] = {
+    "dt": float,
+    "gravity": tuple,
+    "integrator": str,
+    "newton_tol_translation": float,
+    "newton_tol_affine": float,
+    "newton_max_iterations": int,
+    "line_search_max_iterations": int,
+    "armijo_c": float,
+    "ccd_safety": float,
+    "linear_solver": str,
+    "direct_max_dofs": int,
+    "pcg_tolerance": float,
+    "pcg_max_iterations": int,
+    "project_psd": bool,
+    "num_threads": int,
+    "history_limit": int,
+    "contact": bool,
+    "d_hat": float,
+    "contact_stiffness": float,
+    "friction": float,
+    "eps_v": float,
+    "friction_iterations": int,
+    "kinematic_drive_stiffness": float,
+}
+_KIND_NAMES = {
+    bool: "a bool (True or False)",
+    str: "a string",
+    int: "an integer",
+    float: "a real number",
+    tuple: "a sequence of 3 real numbers",
 }
 
 
@@ -119,8 +155,14 @@ class SceneSettings:
         return [f.name for f in fields(cls)]
 
     def validate(self) -> None:
-        """Raise ValueError for any setting out of its range."""
-        if not (isinstance(self.dt, (int, float)) and math.isfinite(self.dt) and self.dt > 0):
+        """Raise TypeError for a setting of the wrong type, ValueError for one out of range.
+
+        Flags must be ``bool`` (``contact='False'`` is refused, not read as True), numbers
+        real numbers and counts integers (NumPy scalars such as ``np.float32(0.01)`` are
+        fine; ``True`` is not a time step).
+        """
+        self._check_types()
+        if not (math.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"dt must be a positive finite number, got {self.dt!r}")
         g = np.asarray(self.gravity, dtype=np.float64)
         if g.shape != (3,) or not np.isfinite(g).all():
@@ -159,6 +201,28 @@ class SceneSettings:
         for name in ("direct_max_dofs", "num_threads", "history_limit", "friction_iterations"):
             if int(getattr(self, name)) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)!r}")
+
+    def _check_types(self) -> None:
+        for f in fields(self):
+            v = getattr(self, f.name)
+            kind = _KINDS[f.name]
+            if kind is bool:
+                ok = isinstance(v, (bool, np.bool_))
+            elif kind is str:
+                ok = isinstance(v, str)
+            elif kind is int:
+                ok = isinstance(v, numbers.Integral) and not isinstance(v, (bool, np.bool_))
+            elif kind is float:
+                ok = isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
+            else:  # a vector of real numbers (its length is checked with the values)
+                ok = isinstance(v, (tuple, list, np.ndarray)) and all(
+                    isinstance(x, numbers.Real) and not isinstance(x, (bool, np.bool_))
+                    for x in np.asarray(v, dtype=object).reshape(-1)
+                )
+            if not ok:
+                raise TypeError(
+                    f"setting {f.name} must be {_KIND_NAMES[kind]}, got {v!r} ({type(v).__name__})"
+                )
 
     def to_core(self) -> _core.SolverSettings:
         """The C++ solver settings (validated)."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -11,6 +12,8 @@ import numpy as np
 
 from abdsim._native import _core
 from abdsim.constitution.rigid_body import _dyadic_of
+from abdsim.geometry import validation as check
+from abdsim.geometry.containment import nested_pairs
 from abdsim.sim import pose as pose_math
 from abdsim.sim.contact_forces import ContactForces, rest_centers_of_mass, world_centers
 from abdsim.sim.scene import GROUND, BodyHandle, Scene
@@ -59,6 +62,11 @@ class StepDiagnostics:
             body (-1 if none).
         energies: ``kinetic`` (½|q − q̃|²_M), ``shape`` and each added term (potentials,
             unscaled) and ``total`` (Π), at the end of the step.
+        substeps: pieces the step was split into (1: solved whole). A step whose straight-line
+            motion from t to t + dt would cross contact (a body passing through another between
+            the reported states), that would invert or collapse a body, or that Newton could
+            not solve, is redone in halves (only the pieces that fail are halved again, down
+            to dt / 1024); the iteration counts then sum over the pieces.
         linear_solver: ``"block_diagonal"``, ``"direct"`` or ``"pcg"``.
         pcg_iterations: PCG iterations summed over the step's Newton iterations.
         wall_time: seconds spent in the C++ step.
@@ -87,6 +95,7 @@ class StepDiagnostics:
     kinematic_lag: float = 0.0
     kinematic_lag_body: int = -1
     integrator_order: int = 1
+    substeps: int = 1
 
     @property
     def ccd_step_bound(self) -> float:
@@ -124,6 +133,7 @@ class StepDiagnostics:
             kinematic_lag=d.kinematic_lag,
             kinematic_lag_body=d.kinematic_lag_body,
             integrator_order=d.integrator_order,
+            substeps=d.substeps,
         )
 
 
@@ -218,6 +228,7 @@ class World:
                 self._contact = self._core.enable_contact(self._contact_settings(scene))
             except ValueError as e:
                 raise ValueError(f"invalid initial configuration for contact: {e}") from None
+            self._check_nesting(self._core.q, "invalid initial configuration for contact")
         for h in self._handles:
             h.sc.meta["dof_offset"] = np.int32(12 * h.start)
             h.sc.meta["dof_count"] = np.int32(12 * len(h))
@@ -284,8 +295,11 @@ class World:
                 f"{where} has {sc.instance_count} instances but had {len(h)} when added; "
                 "build a new Scene after changing the instance count"
             )
+        # The attributes may have been edited since apply_to: check them again here.
+        check.check_mesh_arrays(sc, where)
         T = _as_transforms(sc.transforms, len(h), f"{where}: transforms")
         _check_bottom_row(T, f"{where}: transforms")
+        check.check_transforms(T, f"{where}: transform of instance")
         V = _as_transforms(sc.instances["velocity"], len(h), f"{where}: velocity")
         kappa = np.asarray(sc.instances["kappa"], dtype=np.float64)
         if not (np.isfinite(kappa).all() and (kappa > 0).all()):
@@ -340,7 +354,13 @@ class World:
             SolverError: a step failed (Newton, line search, singular system); the state is
                 that at the start of the failed step.
         """
-        if int(n) != n or n < 1:
+        if (
+            isinstance(n, (bool, np.bool_))
+            or not isinstance(n, numbers.Real)
+            or not math.isfinite(n)
+            or int(n) != n
+            or n < 1
+        ):
             raise ValueError(f"step count must be a positive integer, got {n!r}")
         n = int(n)
         if log is not None:
@@ -454,18 +474,69 @@ class World:
     ) -> None:
         """Replace transforms and/or velocities (n_bodies, 4, 4); None keeps the current one.
 
-        BDF2 restarts with a BDF1 step. Raises ValueError for NaN/inf or wrong shapes.
+        BDF2 restarts with a BDF1 step.
+
+        Raises:
+            ValueError: NaN/inf, wrong shapes, mirror or degenerate transforms; with contact,
+                bodies that intersect, are closer than their thickness, reach into the ground
+                or lie inside another body's closed solid (the state is then unchanged).
         """
         n = self.num_bodies
         q, q_dot = self.q, self.q_dot
         if transforms is not None:
             T = _as_transforms(transforms, n, "transforms")
             _check_bottom_row(T, "transforms")
+            check.check_transforms(T, "set_state: transform of body")
             q = transforms_to_q(T)
+            if self._contact is not None:
+                try:
+                    self._contact.check_initial(q)
+                except ValueError as e:
+                    raise ValueError(f"set_state: invalid configuration for contact: {e}") from None
+                self._check_nesting(q, "set_state: invalid configuration for contact")
         if velocities is not None:
             q_dot = transforms_to_q(_as_transforms(velocities, n, "velocities"))
         self._core.set_state(q, q_dot)
         self._velocities.reset()
+
+    def _check_nesting(self, q: np.ndarray, context: str) -> None:
+        """Refuse a body wholly inside another's closed solid (contact cannot see it)."""
+        n = self.num_bodies
+        A = q[:, 3:].reshape(n, 3, 3)
+        boxes = np.empty((n, 2, 3))
+        probes = np.empty((n, 3))
+        solids = {}
+        for h in self._handles:  # per geometry, not per step: building the world only
+            x = np.einsum("kij,vj->kvi", A[h.start : h.stop], h.sc.positions)
+            x += q[h.start : h.stop, None, :3]
+            boxes[h.start : h.stop, 0] = x.min(axis=1)
+            boxes[h.start : h.stop, 1] = x.max(axis=1)
+            probes[h.start : h.stop] = x[:, 0]
+            if _geometry_dim(h.sc) == 3 and len(h.sc.triangles):
+                solids.update({b: (x[i], h.sc.triangles) for i, b in enumerate(h.bodies)})
+        scripted = self._scripted_bodies()
+        elements = self._scene.contact_elements()
+
+        def may_collide(a: int, b: int) -> bool:
+            if scripted[a] and scripted[b]:
+                return False
+            return self._scene.contact_table.get(int(elements[a]), int(elements[b]))[0]
+
+        pairs = nested_pairs(boxes, solids, probes, may_collide)
+        if pairs:
+            inner, outer = pairs[0]
+            raise ValueError(
+                f"{context}: body {inner} lies inside the closed solid of body {outer} (nested "
+                "bodies: contact acts between surfaces and cannot push it out)"
+            )
+
+    def _scripted_bodies(self) -> np.ndarray:
+        """Per body: fixed or kinematic (contact ignores pairs of two of them)."""
+        fixed = np.concatenate(
+            [np.asarray(h.sc.instances["is_fixed"]).reshape(-1) != 0 for h in self._handles]
+        )
+        kinematic = np.array([self._core.is_kinematic(b) for b in range(self.num_bodies)])
+        return fixed | kinematic
 
     def sync(self) -> None:
         """Write the state into each geometry's ``transforms`` and ``instances["velocity"]``."""
@@ -488,6 +559,7 @@ class World:
         """
         T = _as_transforms(transform, 1, "kinematic target")
         _check_bottom_row(T, "kinematic target")
+        check.check_transforms(T, "kinematic target")
         self._core.set_kinematic_target(int(body), transforms_to_q(T)[0])
 
     def set_kinematic_targets(
@@ -497,6 +569,7 @@ class World:
         b = np.asarray(bodies, dtype=np.int32).reshape(-1)
         T = _as_transforms(transforms, len(b), "kinematic targets")
         _check_bottom_row(T, "kinematic targets")
+        check.check_transforms(T, "kinematic target")
         self._core.set_kinematic_targets(b, transforms_to_q(T))
 
     def set_kinematic_schedule(self, body: int, schedule: Schedule) -> None:

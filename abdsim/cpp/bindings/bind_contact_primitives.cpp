@@ -3,6 +3,8 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <cmath>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include "bindings/bind_contact_parts.h"
@@ -26,6 +28,14 @@ using namespace abd::contact;
 // One Vec3 parameter per index of a pack (the bound functions take vertices one by one).
 template <std::size_t>
 using V3 = const Vec3&;
+
+// Points handed in from Python: NaN would make a CCD report "no impact" (t = 1) and a
+// distance NaN, silently.
+template <class... P>
+void check_points(const char* fn, const P&... p) {
+  if (!(p.allFinite() && ...))
+    throw std::invalid_argument(std::string(fn) + ": points must be finite");
+}
 
 template <class E>
 void def_enum(py::module_& m, const char* name, std::initializer_list<const char*> values) {
@@ -64,13 +74,22 @@ void def_distance_family(py::module_& m, const std::string& stem, Derivatives de
   using Hess = Eigen::Matrix<double, 3 * NV, 3 * NV>;
   const py::arg_v dtype = py::arg("dtype") = Type::AUTO;
   m.def((stem + "_distance").c_str(),
-        [derivatives](V3<I>... x, Type t) { return derivatives(x..., t, 0).d2; },
+        [derivatives](V3<I>... x, Type t) {
+          check_points("distance", x...);
+          return derivatives(x..., t, 0).d2;
+        },
         py::arg(names[I])..., dtype, "Squared distance.");
   m.def((stem + "_distance_gradient").c_str(),
-        [derivatives](V3<I>... x, Type t) { return Grad(derivatives(x..., t, 1).grad); },
+        [derivatives](V3<I>... x, Type t) {
+          check_points("distance_gradient", x...);
+          return Grad(derivatives(x..., t, 1).grad);
+        },
         py::arg(names[I])..., dtype);
   m.def((stem + "_distance_hessian").c_str(),
-        [derivatives](V3<I>... x, Type t) { return Hess(derivatives(x..., t, 2).hess); },
+        [derivatives](V3<I>... x, Type t) {
+          check_points("distance_hessian", x...);
+          return Hess(derivatives(x..., t, 2).hess);
+        },
         py::arg(names[I])..., dtype);
 }
 
@@ -149,6 +168,13 @@ void bind_barrier(py::module_& m) {
 }
 
 CcdOptions ccd_options(double min_distance, double tmax, double target, long max_iterations) {
+  if (!(std::isfinite(min_distance) && min_distance >= 0.0))
+    throw std::invalid_argument("CCD: min_distance must be finite and >= 0");
+  if (!(std::isfinite(tmax) && tmax > 0.0))
+    throw std::invalid_argument("CCD: tmax must be finite and > 0");
+  if (!(target > 0.0 && target < 1.0))
+    throw std::invalid_argument("CCD: target must lie in (0, 1)");
+  if (max_iterations < 0) throw std::invalid_argument("CCD: max_iterations must be >= 0");
   CcdOptions o;
   o.min_distance = min_distance;
   o.tmax = tmax;
@@ -164,6 +190,7 @@ void def_ccd(py::module_& m, const char* name, Fn fn, const std::array<const cha
   m.def(
       name,
       [fn](V3<I>... x, double min_distance, double tmax, double target, long max_iterations) {
+        check_points("CCD", x...);
         return fn(x..., ccd_options(min_distance, tmax, target, max_iterations));
       },
       py::arg(names[I])..., py::arg("min_distance") = 0.0, py::arg("tmax") = 1.0,
@@ -187,6 +214,9 @@ void bind_ccd(py::module_& m) {
       "point_ground_ccd",
       [](const Vec3& p0, const Vec3& p1, double height, double min_distance, double tmax,
          double target) {
+        check_points("point_ground_ccd", p0, p1);
+        if (!std::isfinite(height))
+          throw std::invalid_argument("point_ground_ccd: height must be finite");
         return point_ground_ccd(p0, p1, height, ccd_options(min_distance, tmax, target, 0));
       },
       py::arg("p_t0"), py::arg("p_t1"), py::arg("height"), py::arg("min_distance") = 0.0,
@@ -215,6 +245,10 @@ void bind_friction(py::module_& m) {
         if (weights.size() < 1 || weights.size() > kMaxStencilVertices ||
             dx.size() != 3 * weights.size())
           throw std::invalid_argument("friction_potential: need 1..4 weights and 3 dx per weight");
+        if (!(dx.allFinite() && weights.allFinite() && basis.allFinite() &&
+              std::isfinite(mu_lambda) && std::isfinite(eps) && eps > 0.0))
+          throw std::invalid_argument(
+              "friction_potential: dx, weights, basis and mu_lambda must be finite, eps > 0");
         const FrictionDerivatives r =
             friction_potential(dx, weights, basis, mu_lambda, eps, 2);
         return py::make_tuple(r.value, VecX(r.grad), Eigen::MatrixXd(r.hess));

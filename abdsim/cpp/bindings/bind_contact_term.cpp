@@ -5,10 +5,13 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <memory>
+#include <string>
 #include <optional>
 
 #include "bindings/bind_contact_parts.h"
+#include "bindings/checked_property.h"
 #include "contact/ipc_contact_term.h"
 
 namespace py = pybind11;
@@ -21,6 +24,8 @@ using contact::StencilKind;
 VecX flat_q(const py::array_t<double, py::array::c_style | py::array::forcecast>& q) {
   VecX out(q.size());
   std::copy(q.data(), q.data() + q.size(), out.data());
+  // The term checks the size; NaN would reach the BVHs and the CCD.
+  if (!out.allFinite()) throw std::invalid_argument("q contains NaN or infinite values");
   return out;
 }
 
@@ -43,10 +48,17 @@ std::shared_ptr<IpcContactTerm> make_term(
   if (!optional_size_ok(triangles.size()) || !optional_size_ok(edges.size()) ||
       !optional_size_ok(thickness.size()) || !optional_size_ok(self_collision.size()))
     throw std::invalid_argument("triangles, edges, thickness, self_collision: one per geometry");
+  if (!(std::isfinite(dt) && dt > 0.0))
+    throw std::invalid_argument("dt must be positive and finite");
   SceneData scene;
   scene.dt = dt;
   for (size_t g = 0; g < ng; ++g) {
     GeometryData geo;
+    if (!vertices[g].allFinite())
+      throw std::invalid_argument("geometry " + std::to_string(g) +
+                                  ": vertices contain NaN or infinite values");
+    if (!thickness.empty() && !thickness[g].allFinite())
+      throw std::invalid_argument("geometry " + std::to_string(g) + ": thickness is not finite");
     geo.rest_vertices = vertices[g];
     if (!triangles.empty()) geo.triangles = triangles[g];
     if (!edges.empty()) geo.edges = edges[g];
@@ -66,6 +78,9 @@ std::shared_ptr<IpcContactTerm> make_term(
     body.q_dot.setZero();
     body.is_fixed = is_fixed && (*is_fixed)[b];
     body.mass = mass ? (*mass)[b] : 1.0;
+    if (!(std::isfinite(body.mass) && body.mass > 0.0))
+      throw std::invalid_argument("body " + std::to_string(b) +
+                                  ": mass must be positive and finite");
     scene.bodies.push_back(body);
   }
   return std::make_shared<IpcContactTerm>(scene, settings.value_or(ContactSettings{}));
@@ -107,17 +122,18 @@ void bind_settings(py::module_& m) {
       .def_readwrite("enabled", &ContactRule::enabled)
       .def_readwrite("mu", &ContactRule::mu);
 
-  py::class_<ContactSettings>(m, "ContactSettings", "Settings of the IPC contact term.")
-      .def(py::init<>())
-      .def_readwrite("d_hat", &ContactSettings::d_hat, "barrier activation distance (m)")
-      .def_readwrite("kappa", &ContactSettings::kappa, "contact stiffness; <= 0: adaptive")
-      .def_readwrite("mu", &ContactSettings::mu, "default friction coefficient")
-      .def_readwrite("eps_v", &ContactSettings::eps_v, "friction smoothing speed (m/s)")
+  py::class_<ContactSettings> settings(m, "ContactSettings", "Settings of the IPC contact term.");
+  const char* type = "ContactSettings";
+  def_finite(settings, type, "d_hat", &ContactSettings::d_hat, "barrier activation distance (m)");
+  def_finite(settings, type, "kappa", &ContactSettings::kappa, "contact stiffness; <= 0: adaptive");
+  def_finite(settings, type, "mu", &ContactSettings::mu, "default friction coefficient");
+  def_finite(settings, type, "eps_v", &ContactSettings::eps_v, "friction smoothing speed (m/s)");
+  def_finite(settings, type, "ground_height", &ContactSettings::ground_height);
+  def_finite(settings, type, "ccd_target", &ContactSettings::ccd_target);
+  settings.def(py::init<>())
       .def_readwrite("ground", &ContactSettings::ground)
-      .def_readwrite("ground_height", &ContactSettings::ground_height)
       .def_readwrite("ground_contact_element", &ContactSettings::ground_contact_element)
       .def_readwrite("body_contact_element", &ContactSettings::body_contact_element)
-      .def_readwrite("ccd_target", &ContactSettings::ccd_target)
       .def_readwrite("project_hessian", &ContactSettings::project_hessian)
       .def(
           "set_contact_table",

@@ -2,6 +2,9 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+#include <stdexcept>
+
 #include "bindings/bindings.h"
 #include "mass/dyadic_mass.h"
 
@@ -11,6 +14,9 @@ namespace abd::bindings {
 namespace {
 py::tuple as_tuple(const DyadicMass& d) { return py::make_tuple(d.m, d.m_x_bar, d.S); }
 DyadicMass from_parts(double m, const Vec3& mx, const Mat3& S) {
+  if (!(std::isfinite(m) && mx.allFinite() && S.allFinite()))
+    throw std::invalid_argument("the dyadic mass (abd_mass, abd_mass_x_bar, "
+                                "abd_mass_x_bar_x_bar) must be finite");
   DyadicMass d;
   d.m = m;
   d.m_x_bar = mx;

@@ -3,14 +3,19 @@
 // _core.EnergyTerm with a std::shared_ptr holder; Python terms subclass
 // _core.PythonEnergyTerm).
 #include <pybind11/eigen.h>
+
+#include <Eigen/SVD>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
 
 #include "bindings/bindings.h"
+#include "bindings/checked_property.h"
 #include "solver/energy_term.h"
 #include "solver/shape_energy_term.h"
 #include "solver/world.h"
@@ -35,6 +40,60 @@ VecX as_stacked(const MatX12& m, Eigen::Index n_bodies, const char* what) {
   VecX v(12 * m.rows());
   Eigen::Map<MatX12>(v.data(), m.rows(), 12) = m;
   return v;
+}
+
+// Every index of a geometry is checked here, where it enters from Python: the solver and the
+// contact code index vertices with them.
+template <class Cells>
+void check_cells(const Cells& C, Eigen::Index nv, const char* what) {
+  for (Eigen::Index c = 0; c < C.rows(); ++c)
+    for (Eigen::Index k = 0; k < C.cols(); ++k)
+      if (C(c, k) < 0 || C(c, k) >= nv)
+        throw std::out_of_range(std::string("add_geometry: ") + what + " " + std::to_string(c) +
+                                " has vertex index " + std::to_string(C(c, k)) +
+                                " out of range [0, " + std::to_string(nv) + ")");
+}
+
+void check_geometry(const MatX3& vertices, const MatX3i& triangles, const MatX2i& edges,
+                    const VecX& thickness, int dim) {
+  if (vertices.rows() == 0) throw std::invalid_argument("add_geometry: no vertices");
+  for (Eigen::Index i = 0; i < vertices.rows(); ++i)
+    if (!vertices.row(i).allFinite())
+      throw std::invalid_argument("add_geometry: vertex " + std::to_string(i) +
+                                  " has a NaN or infinite coordinate");
+  if (thickness.size() != vertices.rows())
+    throw std::invalid_argument("add_geometry: thickness must have one value per vertex (" +
+                                std::to_string(vertices.rows()) + "), got " +
+                                std::to_string(thickness.size()));
+  for (Eigen::Index i = 0; i < thickness.size(); ++i)
+    if (!(std::isfinite(thickness[i]) && thickness[i] >= 0.0))
+      throw std::invalid_argument("add_geometry: thickness of vertex " + std::to_string(i) +
+                                  " must be finite and >= 0");
+  check_cells(triangles, vertices.rows(), "triangle");
+  check_cells(edges, vertices.rows(), "edge");
+  if (dim < 1 || dim > 3) throw std::invalid_argument("add_geometry: dim must be 1, 2 or 3");
+}
+
+// The 3x3 part A of a body state [p, a1, a2, a3] must be finite, proper (det A > 0: a mirror
+// turns the body inside out) and non-degenerate (condition number < 1e6).
+void check_affine(const Eigen::Ref<const Vec12>& q, const std::string& what) {
+  if (!q.allFinite()) throw std::invalid_argument(what + " is not finite");
+  Mat3 A;
+  for (int i = 0; i < 3; ++i) A.row(i) = q.segment<3>(3 + 3 * i).transpose();
+  const Vec3 sv = Eigen::JacobiSVD<Mat3>(A).singularValues();
+  if (!(sv[2] > 1e-6 * sv[0]))
+    throw std::invalid_argument(what + ": its 3x3 part A is degenerate (singular values " +
+                                std::to_string(sv[0]) + ", " + std::to_string(sv[1]) + ", " +
+                                std::to_string(sv[2]) + ")");
+  if (!(A.determinant() > 0.0))
+    throw std::invalid_argument(what + ": its 3x3 part A has det " +
+                                std::to_string(A.determinant()) +
+                                " <= 0 (a mirror); it must be proper");
+}
+
+void check_affine_rows(const MatX12& q, const std::string& what) {
+  for (Eigen::Index i = 0; i < q.rows(); ++i)
+    check_affine(q.row(i).transpose(), what + " of body " + std::to_string(i));
 }
 
 // An energy term written in Python: override name(), value(q), gradient(q) (12n array),
@@ -115,8 +174,7 @@ void bind_scene_data(py::module_& m) {
           "add_geometry",
           [](SceneData& s, const MatX3& vertices, const MatX3i& triangles, const MatX2i& edges,
              const VecX& thickness, int self_collision, int dim) {
-            if (thickness.size() != vertices.rows())
-              throw std::invalid_argument("thickness must have one value per vertex");
+            check_geometry(vertices, triangles, edges, thickness, dim);
             GeometryData g;
             g.rest_vertices = vertices;
             g.triangles = triangles;
@@ -136,7 +194,12 @@ void bind_scene_data(py::module_& m) {
              const Vec3& mass_x_bar, const Mat3& mass_x_bar_x_bar, const VecX& kappa,
              double volume, int constitution_uid, const VecXi& is_fixed,
              const VecXi& is_dynamic, const VecXi& external_kinetic) {
+            if (geometry < 0 || geometry >= static_cast<int>(s.geometries.size()))
+              throw std::out_of_range("add_bodies: geometry index " + std::to_string(geometry) +
+                                      " out of range [0, " +
+                                      std::to_string(s.geometries.size()) + ")");
             const Eigen::Index k = q.rows();
+            check_affine_rows(q, "add_bodies: q");
             if (q_dot.rows() != k || kappa.size() != k || is_fixed.size() != k ||
                 is_dynamic.size() != k || external_kinetic.size() != k)
               throw std::invalid_argument(
@@ -177,16 +240,31 @@ void bind_scene_data(py::module_& m) {
           py::return_value_policy::reference_internal);
 }
 
+// q handed to a term from Python: 12 finite values per body (the C++ terms index it by body).
+const VecX& checked_q(const EnergyTerm& t, const VecX& q, const char* what = "q") {
+  if (q.size() % 12 != 0)
+    throw std::invalid_argument(std::string(what) + " must hold 12 values per body, got " +
+                                std::to_string(q.size()));
+  if (const auto* shape = dynamic_cast<const ShapeEnergyTerm*>(&t))
+    if (q.size() != 12 * Eigen::Index(shape->num_bodies()))
+      throw std::invalid_argument(std::string(what) + " must hold 12 x " +
+                                  std::to_string(shape->num_bodies()) + " values, got " +
+                                  std::to_string(q.size()));
+  if (!q.allFinite()) throw std::invalid_argument(std::string(what) + " is not finite");
+  return q;
+}
+
 void bind_terms(py::module_& m) {
   py::class_<EnergyTerm, std::shared_ptr<EnergyTerm>>(
       m, "EnergyTerm", "A potential in the incremental potential Π (unscaled).")
       .def("name", &EnergyTerm::name)
-      .def("value", &EnergyTerm::value, py::arg("q"))
+      .def("value", [](const EnergyTerm& t, const VecX& q) { return t.value(checked_q(t, q)); },
+           py::arg("q"))
       .def(
           "gradient",
           [](const EnergyTerm& t, const VecX& q) {
             VecX g = VecX::Zero(q.size());
-            t.add_gradient(q, 1.0, g);
+            t.add_gradient(checked_q(t, q), 1.0, g);
             return g;
           },
           py::arg("q"))
@@ -194,14 +272,21 @@ void bind_terms(py::module_& m) {
           "hessian",
           [](const EnergyTerm& t, const VecX& q) {
             std::vector<BodyBlock> blocks;
-            t.add_hessian(q, 1.0, blocks);
+            t.add_hessian(checked_q(t, q), 1.0, blocks);
             HessianBlocks out;
             out.reserve(blocks.size());
             for (const BodyBlock& b : blocks) out.emplace_back(b.row, b.col, b.H);
             return out;
           },
           py::arg("q"), "List of (row_body, col_body, 12x12 block).")
-      .def("max_step", &EnergyTerm::max_step, py::arg("q"), py::arg("dq"));
+      .def(
+          "max_step",
+          [](const EnergyTerm& t, const VecX& q, const VecX& dq) {
+            checked_q(t, dq, "dq");
+            if (dq.size() != q.size()) throw std::invalid_argument("dq must have the size of q");
+            return t.max_step(checked_q(t, q), dq);
+          },
+          py::arg("q"), py::arg("dq"));
 
   py::class_<PythonEnergyTerm, EnergyTerm, PythonEnergyTermTrampoline,
              std::shared_ptr<PythonEnergyTerm>>(m, "PythonEnergyTerm",
@@ -228,21 +313,24 @@ void bind_settings(py::module_& m) {
       .value("DIRECT", LinearSolverKind::kDirect)
       .value("PCG", LinearSolverKind::kPCG);
 
-  py::class_<SolverSettings>(m, "SolverSettings", "Settings of the implicit time stepper.")
-      .def(py::init<>())
+  py::class_<SolverSettings> settings(m, "SolverSettings",
+                                      "Settings of the implicit time stepper.");
+  const char* type = "SolverSettings";
+  def_finite(settings, type, "tol_translation", &SolverSettings::tol_translation);
+  def_finite(settings, type, "tol_affine", &SolverSettings::tol_affine);
+  def_finite(settings, type, "armijo_c", &SolverSettings::armijo_c);
+  def_finite(settings, type, "ccd_safety", &SolverSettings::ccd_safety);
+  def_finite(settings, type, "pcg_tolerance", &SolverSettings::pcg_tolerance);
+  def_finite(settings, type, "kinematic_drive_stiffness",
+             &SolverSettings::kinematic_drive_stiffness);
+  settings.def(py::init<>())
       .def_readwrite("integrator", &SolverSettings::integrator)
-      .def_readwrite("tol_translation", &SolverSettings::tol_translation)
-      .def_readwrite("tol_affine", &SolverSettings::tol_affine)
       .def_readwrite("max_newton_iterations", &SolverSettings::max_newton_iterations)
       .def_readwrite("friction_iterations", &SolverSettings::friction_iterations)
-      .def_readwrite("armijo_c", &SolverSettings::armijo_c)
       .def_readwrite("max_line_search_iterations", &SolverSettings::max_line_search_iterations)
-      .def_readwrite("ccd_safety", &SolverSettings::ccd_safety)
       .def_readwrite("linear_solver", &SolverSettings::linear_solver)
       .def_readwrite("direct_max_dofs", &SolverSettings::direct_max_dofs)
-      .def_readwrite("pcg_tolerance", &SolverSettings::pcg_tolerance)
       .def_readwrite("pcg_max_iterations", &SolverSettings::pcg_max_iterations)
-      .def_readwrite("kinematic_drive_stiffness", &SolverSettings::kinematic_drive_stiffness)
       .def_readwrite("project_psd", &SolverSettings::project_psd)
       .def_readwrite("num_threads", &SolverSettings::num_threads);
 
@@ -270,6 +358,7 @@ void bind_settings(py::module_& m) {
       .def_readonly("driven_bodies", &StepDiagnostics::driven_bodies)
       .def_readonly("kinematic_lag", &StepDiagnostics::kinematic_lag)
       .def_readonly("kinematic_lag_body", &StepDiagnostics::kinematic_lag_body)
+      .def_readonly("substeps", &StepDiagnostics::substeps)
       .def_readonly("linear_solver", &StepDiagnostics::linear_solver)
       .def_readonly("pcg_iterations", &StepDiagnostics::pcg_iterations)
       .def_readonly("wall_time", &StepDiagnostics::wall_time);
@@ -317,17 +406,24 @@ void bind_world(py::module_& m) {
       .def(
           "set_state",
           [](World& w, const MatX12& q, const MatX12& q_dot) {
+            check_affine_rows(q, "set_state: q");
             w.set_state(as_stacked(q, w.num_bodies(), "q"),
                         as_stacked(q_dot, w.num_bodies(), "q_dot"));
           },
           py::arg("q"), py::arg("q_dot"))
-      .def("set_kinematic_target", &World::set_kinematic_target, py::arg("body"),
-           py::arg("q_target"))
+      .def(
+          "set_kinematic_target",
+          [](World& w, int body, const Vec12& q) {
+            check_affine(q, "kinematic target");
+            w.set_kinematic_target(body, q);
+          },
+          py::arg("body"), py::arg("q_target"))
       .def(
           "set_kinematic_targets",
           [](World& w, const VecXi& bodies, const MatX12& q) {
             if (q.rows() != bodies.size())
               throw std::invalid_argument("set_kinematic_targets: one (12,) row per body");
+            check_affine_rows(q, "kinematic target");
             for (Eigen::Index i = 0; i < bodies.size(); ++i)
               w.set_kinematic_target(bodies[i], q.row(i).transpose());
           },

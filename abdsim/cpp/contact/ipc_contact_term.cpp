@@ -156,11 +156,12 @@ void IpcContactTerm::begin_step(const StepContext& ctx) {
   } else if (last_built_.q.size() == ctx.q_t.size() && last_built_.q == ctx.q_t) {
     active_ = last_built_;
   } else {
-    // A state the last step did not end in (the first step, or set_state): κ is chosen
-    // afresh for it.
     active_ = build_active_set(ctx.q_t, settings_.d_hat);
-    fresh_compressed_ = !active_.stencils.empty();
+    // A state the last step did not end in (the first step, or set_state): κ is chosen
+    // afresh for it (the solver says so; a caller that does not is judged by the set).
+    if (!ctx.fresh_state.has_value()) fresh_compressed_ = !active_.stencils.empty();
   }
+  if (ctx.fresh_state.has_value()) fresh_compressed_ = *ctx.fresh_state && !active_.stencils.empty();
   // κ may only change while no pair is inside d̂ at the step start: the barrier's energy
   // at q_t is κ Σ b > 0 otherwise, and a stiffer κ would add energy to a compressed pair
   // out of nothing (a body resting inside d̂ leapt centimetres).

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace abd {
 namespace {
@@ -32,6 +33,47 @@ void check_rho(double rho) {
     throw std::invalid_argument("mass_density must be a positive finite number");
 }
 
+// These functions are reachable from Python with arbitrary arrays: every index is checked
+// before it is used, so bad input is an exception naming the element, never a read out of
+// range.
+void check_vertices(const MatX3& V, const char* fn) {
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    if (!V.row(i).allFinite())
+      throw std::invalid_argument(std::string(fn) + ": vertex " + std::to_string(i) +
+                                  " has a NaN or infinite coordinate");
+}
+
+template <class Cells>
+void check_cells(const Cells& C, Eigen::Index n_vertices, const char* fn, const char* what) {
+  for (Eigen::Index c = 0; c < C.rows(); ++c)
+    for (Eigen::Index k = 0; k < C.cols(); ++k)
+      if (C(c, k) < 0 || C(c, k) >= n_vertices)
+        throw std::out_of_range(std::string(fn) + ": " + what + " " + std::to_string(c) +
+                                " has vertex index " + std::to_string(C(c, k)) +
+                                " out of range [0, " + std::to_string(n_vertices) + ")");
+}
+
+void check_thickness(const VecX& r, Eigen::Index n_vertices, const char* fn) {
+  if (r.size() != n_vertices)
+    throw std::invalid_argument(std::string(fn) + ": thickness has " + std::to_string(r.size()) +
+                                " values for " + std::to_string(n_vertices) + " vertices");
+  for (Eigen::Index i = 0; i < r.size(); ++i)
+    if (!(std::isfinite(r[i]) && r[i] > 0.0))
+      throw std::invalid_argument(std::string(fn) + ": thickness of vertex " + std::to_string(i) +
+                                  " must be positive and finite, got " + std::to_string(r[i]));
+}
+
+template <class Cells>
+void check_mesh(const MatX3& V, const Cells& C, const char* fn, const char* what) {
+  check_vertices(V, fn);
+  check_cells(C, V.rows(), fn, what);
+}
+
+void check_finite_mass(double m, const Vec3& mx, const Mat3& S, const char* fn) {
+  if (!(std::isfinite(m) && mx.allFinite() && S.allFinite()))
+    throw std::invalid_argument(std::string(fn) + ": the dyadic mass must be finite");
+}
+
 }  // namespace
 
 DyadicMass DyadicMass::shifted_by(const Vec3& o) const {
@@ -55,6 +97,7 @@ Mat12 DyadicMass::matrix() const {
 
 DyadicMass tet_mesh_mass(const MatX3& V, const MatX4i& T, double rho) {
   check_rho(rho);
+  check_mesh(V, T, "tet_mesh_mass", "tetrahedron");
   const Vec3 o = reference_point(V);
   DyadicMass total;
   for (Eigen::Index t = 0; t < T.rows(); ++t) {
@@ -67,6 +110,7 @@ DyadicMass tet_mesh_mass(const MatX3& V, const MatX4i& T, double rho) {
 
 DyadicMass closed_surface_mass(const MatX3& V, const MatX3i& F, double rho) {
   check_rho(rho);
+  check_mesh(V, F, "closed_surface_mass", "triangle");
   const Vec3 o = reference_point(V);
   DyadicMass total;
   const Vec3 zero = Vec3::Zero();
@@ -79,6 +123,8 @@ DyadicMass closed_surface_mass(const MatX3& V, const MatX3i& F, double rho) {
 
 DyadicMass shell_mass(const MatX3& V, const MatX3i& F, const VecX& r, double rho) {
   check_rho(rho);
+  check_mesh(V, F, "shell_mass", "triangle");
+  check_thickness(r, V.rows(), "shell_mass");
   const Vec3 o = reference_point(V);
   DyadicMass total;
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
@@ -107,6 +153,8 @@ DyadicMass shell_mass(const MatX3& V, const MatX3i& F, const VecX& r, double rho
 
 DyadicMass rod_mass(const MatX3& V, const MatX2i& E, const VecX& r, double rho) {
   check_rho(rho);
+  check_mesh(V, E, "rod_mass", "edge");
+  check_thickness(r, V.rows(), "rod_mass");
   const Vec3 o = reference_point(V);
   DyadicMass total;
   for (Eigen::Index e = 0; e < E.rows(); ++e) {
@@ -132,6 +180,7 @@ DyadicMass rod_mass(const MatX3& V, const MatX2i& E, const VecX& r, double rho) 
 }
 
 RigidBodyProperties to_rigid_body(const DyadicMass& dm) {
+  check_finite_mass(dm.m, dm.m_x_bar, dm.S, "to_rigid_body");
   if (!(dm.m > 0.0)) throw std::invalid_argument("to_rigid_body: mass must be positive");
   RigidBodyProperties rb;
   rb.mass = dm.m;
@@ -146,6 +195,8 @@ RigidBodyProperties to_rigid_body(const DyadicMass& dm) {
 DyadicMass from_rigid_body(double mass, const Vec3& center, const Mat3& inertia) {
   if (!(mass > 0.0) || !std::isfinite(mass))
     throw std::invalid_argument("from_rigid_body: mass must be a positive finite number");
+  if (!(center.allFinite() && inertia.allFinite()))
+    throw std::invalid_argument("from_rigid_body: mass_center and inertia must be finite");
   DyadicMass dm;
   dm.m = mass;
   dm.m_x_bar = mass * center;

@@ -58,6 +58,11 @@ struct StepDiagnostics {
   int driven_bodies = 0;
   double kinematic_lag = 0.0;
   int kinematic_lag_body = -1;
+  // Substeps the step was split into (1: solved whole). A step whose straight-line motion
+  // would cross contact, invert or flatten a body, or that Newton could not solve, is redone
+  // as 2, 4, 8, ... substeps; the counts above then sum (iterations) or take the extreme
+  // (CCD bound) over them, the rest is the last substep's.
+  int substeps = 1;
   std::string linear_solver;  // "block_diagonal", "direct", "pcg" or "none"
   long pcg_iterations = 0;    // summed over Newton iterations
   double wall_time = 0.0;     // seconds

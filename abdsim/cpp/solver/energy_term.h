@@ -20,6 +20,7 @@
 // starts at ccd_safety * bound when bound < 1), value() at every line-search trial, and
 // update(q) after every accepted iterate.
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,9 @@ struct StepContext {
   // BDF1, q̂ = (4q_t − q_{t−1})/3 for BDF2 (null: q_t). Dissipative terms (friction) measure
   // their sliding from it.
   const VecX* q_ref = nullptr;
+  // Whether q_t was given (the first step, or after set_state) rather than reached by the
+  // previous step (or a substep of it); unknown: the term tells from what it last saw.
+  std::optional<bool> fresh_state;
 };
 
 class EnergyTerm {

@@ -123,6 +123,7 @@ void World::set_state(const VecX& q, const VecX& q_dot) {
     if (kinematic_[b]) kinematic_target_.segment<12>(12 * b) = q_.segment<12>(12 * b);
   }
   has_history_ = false;
+  fresh_state_ = true;
 }
 
 void World::set_time(double t) {
@@ -224,35 +225,21 @@ void World::finish_body(int b, double c) {
   }
 }
 
+// One step of length h: solved once, accepted if its straight-line motion from q_t is free
+// of contact and no body inverts or flattens (step_rejection); otherwise (or when Newton
+// fails) redone as substeps (world_substeps.cpp). The state is unchanged when it throws.
 const StepDiagnostics& World::step() {
   const auto t_start = std::chrono::steady_clock::now();
   const double h = scene_.dt;
-  const bool bdf2 = settings_.integrator == Integrator::kBDF2 && has_history_;
-  const double c = bdf2 ? 2.0 * h / 3.0 : h;
-  const double c2 = c * c;
-  for (VecX* v : {&q_hat_, &q_tilde_, &x_pred_, &x_, &q_dot_new_}) v->resize(12 * n_);
-  constrained_.resize(n_);
-
   StepDiagnostics d;
   d.step = step_count_;
-  d.integrator_order = bdf2 ? 2 : 1;
-  if (terms_.empty() && settings_.linear_solver == LinearSolverKind::kAuto) {
-    step_per_body(c, bdf2, d);  // predictions, Newton and velocities in one parallel loop
+  const std::string failure = try_step(d);
+  if (failure.empty()) {
+    commit_step();
+    remember_gap(d);
   } else {
-    parallel_for(n_, threads_, [&](int b) { predict_body(b, c, bdf2); });
-    solve_coupled(c2, d);
-    parallel_for(n_, threads_, [&](int b) { finish_body(b, c); });
+    advance_in_substeps(failure, d);
   }
-  contact_diagnostics(d);
-  if (!x_.allFinite() || !q_dot_new_.allFinite())
-    throw SolverError("the step produced a non-finite state");
-
-  q_prev_.swap(q_);
-  q_dot_prev_.swap(q_dot_);
-  q_.swap(x_);
-  q_dot_.swap(q_dot_new_);
-  has_history_ = true;
-  for (const auto& t : terms_) has_history_ = has_history_ && !t->broke_smoothness();
   ++step_count_;
   time_ = time_base_ + static_cast<double>(step_count_ - step_base_) * h;
 
@@ -265,6 +252,40 @@ const StepDiagnostics& World::step() {
     history_.push_back(diag_);
   }
   return diag_;
+}
+
+// Solves one step of length scene_.dt from the current state into x_ and q_dot_new_ (the
+// state itself is not changed: commit_step does that).
+void World::solve_step(StepDiagnostics& d) {
+  const double h = scene_.dt;
+  const bool bdf2 = settings_.integrator == Integrator::kBDF2 && has_history_;
+  const double c = bdf2 ? 2.0 * h / 3.0 : h;
+  const double c2 = c * c;
+  for (VecX* v : {&q_hat_, &q_tilde_, &x_pred_, &x_, &q_dot_new_}) v->resize(12 * n_);
+  constrained_.resize(n_);
+  d.integrator_order = bdf2 ? 2 : 1;
+
+  if (terms_.empty() && settings_.linear_solver == LinearSolverKind::kAuto) {
+    step_per_body(c, bdf2, d);  // predictions, Newton and velocities in one parallel loop
+  } else {
+    parallel_for(n_, threads_, [&](int b) { predict_body(b, c, bdf2); });
+    solve_coupled(c2, d);
+    parallel_for(n_, threads_, [&](int b) { finish_body(b, c); });
+  }
+  contact_diagnostics(d);
+  if (!x_.allFinite() || !q_dot_new_.allFinite())
+    throw SolverError("the step produced a non-finite state");
+}
+
+// The solved step (x_, q_dot_new_) becomes the state.
+void World::commit_step() {
+  q_prev_.swap(q_);
+  q_dot_prev_.swap(q_dot_);
+  q_.swap(x_);
+  q_dot_.swap(q_dot_new_);
+  has_history_ = true;
+  for (const auto& t : terms_) has_history_ = has_history_ && !t->broke_smoothness();
+  fresh_state_ = false;
 }
 
 void World::set_history_limit(std::size_t limit) {

@@ -120,6 +120,22 @@ class World {
     double shape = 0.0;
   };
   void newton_body(int b, double c2, Vec12& x, BodyNewton& r, std::vector<double>* alphas) const;
+  // step(): one solve of scene_.dt from the state into x_ / q_dot_new_, and its commit.
+  void solve_step(StepDiagnostics& d);
+  void commit_step();
+  // world_substeps.cpp: why the solved step (q_ -> x_) cannot be accepted ("" if it can):
+  // its straight-line motion crosses contact, or a body inverts or flattens.
+  std::string step_rejection() const;
+  // After a commit: the smallest contact gap at the new state (min(gap within d̂, d̂)), so that
+  // the next step's chord check can be skipped when no vertex moves far enough to close it.
+  void remember_gap(const StepDiagnostics& d);
+  // solve_step, then step_rejection; a SolverError's message is returned as the reason.
+  std::string try_step(StepDiagnostics& d);
+  std::string applied_tolerances() const;  // "" or the per-body tolerances of the last solve
+  bool path_crosses(const VecX& q0, const VecX& q1) const;
+  // Redoes the step as 2, 4, 8, ... substeps; throws SolverError (state unchanged) if even
+  // the finest fails, with `failure` (why the whole step failed) and the last reason.
+  void advance_in_substeps(const std::string& failure, StepDiagnostics& d);
   // world_coupled.cpp
   void solve_coupled(double c2, StepDiagnostics& d);
   void place_kinematic_bodies(StepDiagnostics& d);
@@ -151,6 +167,9 @@ class World {
   VecX q_, q_dot_;            // current state
   VecX q_prev_, q_dot_prev_;  // previous state (BDF2)
   bool has_history_ = false;
+  // The state was given (construction, set_state), not reached by a step: terms may choose
+  // what they lag for it afresh (StepContext::fresh_state).
+  bool fresh_state_ = true;
   double time_ = 0.0;
   long step_count_ = 0;
   // time_ = time_base_ + (step_count_ - step_base_) * dt: no drift from summing dt.
@@ -178,6 +197,10 @@ class World {
   VecX damping_, alpha_, island_E_, island_E_new_, island_slope_, body_E_, body_E_new_, bound_;
   BlockSystem system_;
   std::vector<BodyBlock> blocks_;
+  // remember_gap: the gap, the state and the kinematic flags it was measured with.
+  double gap_ = 0.0;
+  VecX gap_q_;
+  std::vector<std::uint8_t> gap_kinematic_;
   StepDiagnostics diag_;
   std::deque<StepDiagnostics> history_;
   std::size_t history_limit_ = 10000;

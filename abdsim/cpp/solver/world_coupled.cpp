@@ -343,7 +343,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   const double h = scene_.dt;
   bool split = true;
   for (const auto& t : terms_) split = split && t->splits_by_body();
-  const StepContext ctx{h, q_, q_dot_, c2, &q_hat_};
+  const StepContext ctx{h, q_, q_dot_, c2, &q_hat_, fresh_state_};
   for (const auto& t : terms_) t->begin_step(ctx);
 
   x_free_.resize(12 * n_);
