@@ -55,6 +55,10 @@ struct StepDiagnostics {
   int driven_bodies = 0;
   double kinematic_lag = 0.0;
   int kinematic_lag_body = -1;
+  // Equality constraints (joints) at the end of the step: the largest anchor separation (m)
+  // and axis/frame misalignment (rad); zero without constraints.
+  double joint_violation = 0.0;
+  double joint_violation_angle = 0.0;
   std::string linear_solver;  // "block_diagonal", "direct", "pcg" or "none"
   long pcg_iterations = 0;    // summed over Newton iterations
   double wall_time = 0.0;     // seconds
