@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from abdsim.geometry.simplicial_complex import SimplicialComplex
+from abdsim.sim.joints import JointHandle, body_index, check_tree, make_joint
 from abdsim.sim.settings import SceneSettings
 
 GROUND = "ground"  #: the ground's name in ``Scene.contact_table``
@@ -140,6 +141,7 @@ class Scene:
         self._handles: list[BodyHandle] = []
         self._ground: Ground | None = None
         self.contact_table = ContactTable()
+        self._joints: list[JointHandle] = []
 
     @property
     def dt(self) -> float:
@@ -255,6 +257,68 @@ class Scene:
         self._geometries.append(sc)
         self._handles.append(handle)
         return handle
+
+    @property
+    def joints(self) -> list[JointHandle]:
+        """Added joints, in order (the order of the joint coordinates)."""
+        return list(self._joints)
+
+    def add_joint(
+        self,
+        kind: str,
+        parent: BodyHandle | int | None = None,
+        child: BodyHandle | int | None = None,
+        anchor: Any = (0.0, 0.0, 0.0),
+        axis: Any = (0.0, 0.0, 1.0),
+        limits: tuple[float, float] | None = None,
+        damping: float = 0.0,
+        armature: float = 0.0,
+        stiffness: float = 0.0,
+        ref: float = 0.0,
+        frictionloss: float = 0.0,
+        name: str | None = None,
+    ) -> JointHandle:
+        """Join ``child`` to ``parent`` (None: the world); the World holds it exactly.
+
+        Args:
+            kind: ``"revolute"`` (also ``"hinge"``, ``"continuous"``), ``"prismatic"``
+                (``"slide"``), ``"ball"`` (``"spherical"``), ``"fixed"`` (``"weld"``) or
+                ``"free"`` (no constraint; world parent only).
+            parent, child: a handle of a one-instance geometry or a body index.
+            anchor: the joint's world position in the configuration the World is built from.
+            axis: hinge or slide direction in the world at that configuration.
+            limits, damping, armature, stiffness, ref, frictionloss: joint physics in
+                MuJoCo's meaning; checked here, but the World does not simulate them yet
+                (it raises NotImplementedError for any that is set).
+            name: the joint's name (default ``joint<i>``).
+
+        Raises:
+            ValueError naming the joint: unknown kind, zero axis, parent == child, a body
+                with two parents or a loop, negative damping/armature/stiffness/
+                frictionloss, limits with lower > upper. An anchor far from both bodies is
+                reported when the World is built.
+        """
+        index = len(self._joints)
+        who = f"joint '{name if name is not None else f'joint{index}'}'"
+        n = self.num_bodies
+        joint = make_joint(
+            index,
+            kind,
+            body_index(f"{who} parent", parent, n, allow_world=True),
+            body_index(f"{who} child", child, n, allow_world=False),
+            anchor,
+            axis,
+            limits,
+            damping,
+            armature,
+            stiffness,
+            ref,
+            frictionloss,
+            name,
+        )
+        check_tree(self._joints, joint)
+        self._joints.append(joint)
+        return joint
 
     def contact_elements(self) -> np.ndarray:
         """Contact element id of every body, (n_bodies,) int32."""

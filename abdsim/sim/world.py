@@ -53,6 +53,9 @@ class StepDiagnostics:
             body (-1 if none).
         energies: ``kinetic`` (½|q − q̃|²_M), ``shape`` and each added term (potentials,
             unscaled) and ``total`` (Π), at the end of the step.
+        joint_violation: largest joint anchor separation (m) at the end of the step (for a
+            prismatic joint, its offset across the axis); 0 without joints.
+        joint_violation_angle: largest joint axis or frame misalignment (rad).
         linear_solver: ``"block_diagonal"``, ``"direct"`` or ``"pcg"``.
         pcg_iterations: PCG iterations summed over the step's Newton iterations.
         wall_time: seconds spent in the C++ step.
@@ -80,6 +83,8 @@ class StepDiagnostics:
     driven_bodies: int = 0
     kinematic_lag: float = 0.0
     kinematic_lag_body: int = -1
+    joint_violation: float = 0.0
+    joint_violation_angle: float = 0.0
 
     @property
     def ccd_step_bound(self) -> float:
@@ -116,6 +121,8 @@ class StepDiagnostics:
             driven_bodies=d.driven_bodies,
             kinematic_lag=d.kinematic_lag,
             kinematic_lag_body=d.kinematic_lag_body,
+            joint_violation=d.joint_violation,
+            joint_violation_angle=d.joint_violation_angle,
         )
 
 
@@ -200,6 +207,7 @@ class World:
                 q0 = self._core.q
                 for b in h.bodies:
                     self._core.set_kinematic_target(b, q0[b])
+        self._joints = self._build_joints(data, scene)
         self._contact = None
         if scene.settings.contact and self._needs_contact(data, scene):
             try:
@@ -209,6 +217,30 @@ class World:
         for h in self._handles:
             h.sc.meta["dof_offset"] = np.int32(12 * h.start)
             h.sc.meta["dof_count"] = np.int32(12 * len(h))
+
+    def _build_joints(self, data: _core.SceneData, scene: Scene):
+        """The scene's joints as one C++ constraint on the world (None without joints)."""
+        joints = scene.joints
+        if not joints:
+            return None
+        for j in joints:
+            if j.physics():
+                raise NotImplementedError(
+                    f"joint '{j.name}': {sorted(j.physics())} are not simulated yet; only "
+                    "ideal joints are"
+                )
+        specs = []
+        for j in joints:
+            spec = _core.JointSpec()
+            spec.kind = getattr(_core.JointKind, j.kind)
+            spec.parent, spec.child = j.parent, j.child
+            spec.anchor, spec.axis = np.array(j.anchor), np.array(j.axis)
+            spec.name = j.name
+            specs.append(spec)
+        q0 = np.ascontiguousarray(self._core.q).reshape(-1)
+        joint_set = _core.JointSet(data, q0, specs)
+        self._core.add_constraint(joint_set)
+        return joint_set
 
     @staticmethod
     def _needs_contact(data: _core.SceneData, scene: Scene) -> bool:
@@ -434,6 +466,39 @@ class World:
         for h in self._handles:
             h.sc.transforms = T[h.start : h.stop]
             h.sc.instances["velocity"] = V[h.start : h.stop]
+
+    # -- joints ---------------------------------------------------------------------------
+    @property
+    def joints(self) -> list:
+        """The scene's joints (``JointHandle``), in coordinate order."""
+        return self._scene.joints
+
+    def joint_positions(self) -> np.ndarray:
+        """Joint coordinates (nq,), in joint order, MuJoCo's conventions.
+
+        Revolute: the hinge angle (rad, unwrapped, 0 at load); prismatic: the slide (m, 0 at
+        load); ball: a w-first unit quaternion of the child's rotation relative to the
+        parent, relative to load; free: the body origin p and the quaternion of its
+        rotation; fixed: nothing. Affine bodies read as their nearest rotation.
+        """
+        if self._joints is None:
+            return np.zeros(0)
+        return np.asarray(self._joints.positions(np.ascontiguousarray(self._core.q).reshape(-1)))
+
+    def joint_velocities(self) -> np.ndarray:
+        """Joint velocities (nv,): hinge and slide rates, a ball's relative angular velocity in
+        the child's frame, a free body's (ṗ in the world, ω in the body frame)."""
+        if self._joints is None:
+            return np.zeros(0)
+        q = np.ascontiguousarray(self._core.q).reshape(-1)
+        q_dot = np.ascontiguousarray(self._core.q_dot).reshape(-1)
+        return np.asarray(self._joints.velocities(q, q_dot))
+
+    def joint_violation(self) -> tuple[float, float]:
+        """(largest anchor separation in m, largest axis/frame misalignment in rad) now."""
+        if self._joints is None:
+            return (0.0, 0.0)
+        return tuple(self._joints.violation(np.ascontiguousarray(self._core.q).reshape(-1)))
 
     # -- kinematic (scripted) bodies ------------------------------------------------------
     def set_kinematic_target(self, body: int, transform: np.ndarray) -> None:
