@@ -75,25 +75,31 @@ def pinocchio_chain(handles):
     return model
 
 
-def aba_rk4(model, q0, v0, t_end: float, h: float, sample_every: int):
-    """RK4 on (q, v) with Pinocchio's ABA (zero torque); samples every `sample_every` steps."""
+def aba_rk4(model, q0, v0, t_end: float, h: float, sample_every: int, velocities=False):
+    """RK4 on (q, v) with Pinocchio's ABA (zero torque), configurations advanced with
+    pin.integrate (on the manifold, for ball joints); samples q (and v) every
+    `sample_every` steps."""
     import pinocchio as pin
 
     data = model.createData()
     tau = np.zeros(model.nv)
 
-    def f(q, v):
-        return v, pin.aba(model, data, q, v, tau)
+    def acc(q, v):
+        return pin.aba(model, data, q, v, tau)
 
     q, v = np.array(q0, float), np.array(v0, float)
-    out = [q.copy()]
+    qs, vs = [q.copy()], [v.copy()]
     for k in range(1, int(round(t_end / h)) + 1):
-        k1q, k1v = f(q, v)
-        k2q, k2v = f(q + 0.5 * h * k1q, v + 0.5 * h * k1v)
-        k3q, k3v = f(q + 0.5 * h * k2q, v + 0.5 * h * k2v)
-        k4q, k4v = f(q + h * k3q, v + h * k3v)
-        q = q + h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q)
-        v = v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+        a1 = acc(q, v)
+        v2 = v + 0.5 * h * a1
+        a2 = acc(pin.integrate(model, q, 0.5 * h * v), v2)
+        v3 = v + 0.5 * h * a2
+        a3 = acc(pin.integrate(model, q, 0.5 * h * v2), v3)
+        v4 = v + h * a3
+        a4 = acc(pin.integrate(model, q, h * v3), v4)
+        q = pin.integrate(model, q, h / 6 * (v + 2 * v2 + 2 * v3 + v4))
+        v = v + h / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
         if k % sample_every == 0:
-            out.append(q.copy())
-    return np.array(out)
+            qs.append(q.copy())
+            vs.append(v.copy())
+    return (np.array(qs), np.array(vs)) if velocities else np.array(qs)
