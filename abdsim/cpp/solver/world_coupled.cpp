@@ -385,6 +385,8 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       }
   }
 
+  for (const auto& t : terms_) t->limit_tolerances(tol_translation_, tol_affine_);
+
   // 1. Kinematic bodies; 2. the start iterate.
   x_ = q_;
   place_kinematic_bodies(d);
