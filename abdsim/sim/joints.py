@@ -66,6 +66,17 @@ class JointHandle:
         """Number of velocity coordinates."""
         return JOINT_DOFS[self.kind][1]
 
+    def core_physics(self):
+        """The C++ ``JointPhysics`` of this joint."""
+        from abdsim._native import _core
+
+        p = _core.JointPhysics()
+        p.stiffness, p.ref, p.damping = self.stiffness, self.ref, self.damping
+        p.armature, p.frictionloss = self.armature, self.frictionloss
+        if self.limits is not None:
+            p.limited, p.lower, p.upper = True, self.limits[0], self.limits[1]
+        return p
+
     def physics(self) -> dict[str, Any]:
         """The joint's physics settings that differ from a plain ideal joint."""
         out: dict[str, Any] = {}
@@ -75,6 +86,72 @@ class JointHandle:
             if getattr(self, key) != 0.0:
                 out[key] = getattr(self, key)
         return out
+
+
+ACTUATOR_KINDS = ("motor", "position", "velocity")
+
+
+@dataclass(frozen=True)
+class ActuatorHandle:
+    """One actuator of a scene (``Scene.add_actuator``); its control is ``world.ctrl[index]``.
+
+    MuJoCo's ``general`` actuator with the motor / position / velocity presets, acting on a
+    1-dof joint: force = gain·u + b1·gear·θ + b2·gear·θ̇ (motor: 1, 0, 0; position: kp, −kp,
+    −kv; velocity: kv, 0, −kv), clamped to ``force_range``; the joint gets gear·force. The
+    control u is clamped to ``ctrl_range``.
+    """
+
+    index: int
+    joint: int  #: joint index
+    kind: str
+    kp: float = 0.0
+    kv: float = 0.0
+    gear: float = 1.0
+    ctrl_range: tuple[float, float] | None = None
+    force_range: tuple[float, float] | None = None
+
+
+def _range(who: str, what: str, value: Any) -> tuple[float, float] | None:
+    if value is None:
+        return None
+    try:
+        lo, hi = (float(x) for x in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{who}: {what} must be (lower, upper), got {value!r}") from None
+    if math.isnan(lo) or math.isnan(hi) or lo > hi:
+        raise ValueError(f"{who}: {what} must have lower <= upper, got ({lo}, {hi})")
+    return (lo, hi)
+
+
+def make_actuator(
+    index: int,
+    joint: JointHandle,
+    kind: str,
+    kp: float,
+    kv: float,
+    gear: float,
+    ctrl_range: Any,
+    force_range: Any,
+) -> ActuatorHandle:
+    """Checks one actuator (ValueError naming it and its joint) and returns its handle."""
+    who = f"actuator {index} on joint '{joint.name}'"
+    if kind not in ACTUATOR_KINDS:
+        raise ValueError(f"{who}: unknown actuator kind {kind!r}; known: {ACTUATOR_KINDS}")
+    if joint.kind not in ("revolute", "prismatic"):
+        raise ValueError(f"{who}: actuators drive revolute and prismatic joints only")
+    gear = float(gear)
+    if not (math.isfinite(gear) and gear != 0.0):
+        raise ValueError(f"{who}: gear must be finite and non-zero, got {gear!r}")
+    return ActuatorHandle(
+        index=index,
+        joint=joint.index,
+        kind=kind,
+        kp=_non_negative(who, "kp", kp),
+        kv=_non_negative(who, "kv", kv),
+        gear=gear,
+        ctrl_range=_range(who, "ctrl_range", ctrl_range),
+        force_range=_range(who, "force_range", force_range),
+    )
 
 
 def body_index(who: str, value: Any, n_bodies: int, allow_world: bool) -> int:
@@ -148,14 +225,9 @@ def make_joint(
         if norm < 1e-12:
             raise ValueError(f"{who}: the axis is zero")
         axis_v = tuple(a / norm for a in axis_v)
-    limits_v = None
-    if limits is not None:
-        if kind not in ("revolute", "prismatic"):
-            raise ValueError(f"{who}: limits apply to revolute and prismatic joints only")
-        lo, hi = (float(x) for x in limits)
-        if math.isnan(lo) or math.isnan(hi) or lo > hi:
-            raise ValueError(f"{who}: limits must have lower <= upper, got ({lo}, {hi})")
-        limits_v = (lo, hi)
+    if limits is not None and kind not in ("revolute", "prismatic"):
+        raise ValueError(f"{who}: limits apply to revolute and prismatic joints only")
+    limits_v = _range(who, "limits", limits)
     ref = float(ref)
     if not math.isfinite(ref):
         raise ValueError(f"{who}: ref must be finite, got {ref!r}")

@@ -8,7 +8,14 @@ from typing import Any
 import numpy as np
 
 from abdsim.geometry.simplicial_complex import SimplicialComplex
-from abdsim.sim.joints import JointHandle, body_index, check_tree, make_joint
+from abdsim.sim.joints import (
+    ActuatorHandle,
+    JointHandle,
+    body_index,
+    check_tree,
+    make_actuator,
+    make_joint,
+)
 from abdsim.sim.settings import SceneSettings
 
 GROUND = "ground"  #: the ground's name in ``Scene.contact_table``
@@ -142,6 +149,7 @@ class Scene:
         self._ground: Ground | None = None
         self.contact_table = ContactTable()
         self._joints: list[JointHandle] = []
+        self._actuators: list[ActuatorHandle] = []
 
     @property
     def dt(self) -> float:
@@ -287,9 +295,12 @@ class Scene:
             parent, child: a handle of a one-instance geometry or a body index.
             anchor: the joint's world position in the configuration the World is built from.
             axis: hinge or slide direction in the world at that configuration.
-            limits, damping, armature, stiffness, ref, frictionloss: joint physics in
-                MuJoCo's meaning; checked here, but the World does not simulate them yet
-                (it raises NotImplementedError for any that is set).
+            limits: (lower, upper) in the joint coordinate (relative to load, so lower < 0 <
+                upper): a barrier that is never crossed (the joint stops within 1e-3 of it).
+            damping, armature, stiffness, ref, frictionloss: MuJoCo's joint damping (viscous,
+                implicit), armature (added inertia), spring stiffness about ``ref`` and dry
+                friction loss (smoothed below 1e-3 rad/s or m/s). Joint physics act on
+                revolute and prismatic joints only.
             name: the joint's name (default ``joint<i>``).
 
         Raises:
@@ -319,6 +330,46 @@ class Scene:
         check_tree(self._joints, joint)
         self._joints.append(joint)
         return joint
+
+    @property
+    def actuators(self) -> list[ActuatorHandle]:
+        """Added actuators, in order (the order of ``world.ctrl``)."""
+        return list(self._actuators)
+
+    def add_actuator(
+        self,
+        joint: JointHandle | int | str,
+        kind: str = "motor",
+        kp: float = 0.0,
+        kv: float = 0.0,
+        gear: float = 1.0,
+        ctrl_range: tuple[float, float] | None = None,
+        force_range: tuple[float, float] | None = None,
+    ) -> ActuatorHandle:
+        """Drive a revolute or prismatic joint like MuJoCo's motor / position / velocity
+        actuator (see ``ActuatorHandle``); its control is ``world.ctrl[handle.index]``.
+
+        Raises:
+            ValueError naming the actuator and joint: unknown kind or joint, a joint that is
+                not 1-dof, negative gains, zero gear, a range with lower > upper.
+        """
+        if isinstance(joint, JointHandle):
+            if joint.index >= len(self._joints) or self._joints[joint.index] is not joint:
+                raise ValueError(f"joint '{joint.name}' is not a joint of this scene")
+        elif isinstance(joint, str):
+            found = [j for j in self._joints if j.name == joint]
+            if not found:
+                raise ValueError(f"no joint named {joint!r}")
+            joint = found[0]
+        elif isinstance(joint, (int, np.integer)) and 0 <= int(joint) < len(self._joints):
+            joint = self._joints[int(joint)]
+        else:
+            raise ValueError(f"unknown joint {joint!r}")
+        handle = make_actuator(
+            len(self._actuators), joint, kind, kp, kv, gear, ctrl_range, force_range
+        )
+        self._actuators.append(handle)
+        return handle
 
     def contact_elements(self) -> np.ndarray:
         """Contact element id of every body, (n_bodies,) int32."""

@@ -219,16 +219,13 @@ class World:
             h.sc.meta["dof_count"] = np.int32(12 * len(h))
 
     def _build_joints(self, data: _core.SceneData, scene: Scene):
-        """The scene's joints as one C++ constraint on the world (None without joints)."""
+        """The scene's joints as one C++ constraint on the world, and their physics and
+        actuators as one energy term (None, None without joints)."""
         joints = scene.joints
+        self._joint_forces = None
+        self._wrenches = None
         if not joints:
             return None
-        for j in joints:
-            if j.physics():
-                raise NotImplementedError(
-                    f"joint '{j.name}': {sorted(j.physics())} are not simulated yet; only "
-                    "ideal joints are"
-                )
         specs = []
         for j in joints:
             spec = _core.JointSpec()
@@ -240,6 +237,25 @@ class World:
         q0 = np.ascontiguousarray(self._core.q).reshape(-1)
         joint_set = _core.JointSet(data, q0, specs)
         self._core.add_constraint(joint_set)
+        if any(j.kind in ("revolute", "prismatic") for j in joints):
+            actuators = []
+            for a in scene.actuators:
+                spec = _core.ActuatorSpec()
+                spec.joint, spec.kind = a.joint, getattr(_core.ActuatorKind, a.kind)
+                spec.kp, spec.kv, spec.gear = a.kp, a.kv, a.gear
+                if a.ctrl_range is not None:
+                    spec.ctrl_limited = True
+                    spec.ctrl_lower, spec.ctrl_upper = a.ctrl_range
+                if a.force_range is not None:
+                    spec.force_limited = True
+                    spec.force_lower, spec.force_upper = a.force_range
+                actuators.append(spec)
+            physics = [j.core_physics() for j in joints]
+            self._joint_forces = _core.JointForceTerm(joint_set, data, physics, actuators)
+            self._core.add_term(self._joint_forces)
+        elif any(j.physics() for j in joints):
+            bad = next(j for j in joints if j.physics())
+            raise ValueError(f"joint '{bad.name}': joint physics act on 1-dof joints only")
         return joint_set
 
     @staticmethod
@@ -493,6 +509,73 @@ class World:
         q = np.ascontiguousarray(self._core.q).reshape(-1)
         q_dot = np.ascontiguousarray(self._core.q_dot).reshape(-1)
         return np.asarray(self._joints.velocities(q, q_dot))
+
+    @property
+    def ctrl(self) -> np.ndarray:
+        """Actuator controls (n_actuators,), a writable view: ``world.ctrl[:] = targets``."""
+        if self._joint_forces is None:
+            return np.zeros(0)
+        return self._joint_forces.ctrl
+
+    def set_joint_forces(self, tau: np.ndarray | Sequence[float]) -> None:
+        """Generalized joint forces (nv,), like MuJoCo's ``qfrc_applied``; they persist until
+        replaced. Only revolute and prismatic joints take non-zero entries."""
+        nv = sum(j.nv for j in self.joints)
+        tau = np.asarray(tau, dtype=np.float64).reshape(-1)
+        if tau.shape != (nv,):
+            raise ValueError(f"set_joint_forces: expected {nv} values (nv), got {tau.shape}")
+        per_joint, k = np.zeros(len(self.joints)), 0
+        for j in self.joints:
+            if j.nv == 1:
+                per_joint[j.index] = tau[k]
+            elif np.any(tau[k : k + j.nv] != 0.0):
+                raise ValueError(f"set_joint_forces: joint '{j.name}' ({j.kind}) takes none")
+            k += j.nv
+        if self._joint_forces is None:
+            if np.any(per_joint != 0.0):
+                raise ValueError("set_joint_forces: the scene has no 1-dof joint")
+            return
+        self._joint_forces.set_joint_forces(per_joint)
+
+    def apply_wrench(
+        self,
+        body: int | BodyHandle,
+        force: Sequence[float] | np.ndarray = (0.0, 0.0, 0.0),
+        torque: Sequence[float] | np.ndarray = (0.0, 0.0, 0.0),
+        point: Sequence[float] | np.ndarray | None = None,
+    ) -> None:
+        """An external force (N) and torque (N·m) on a body, like MuJoCo's ``xfrc_applied``:
+        the force acts at the world ``point`` (the material point there now; None: the
+        centre of mass). It persists (replacing the body's previous wrench) until
+        ``clear_wrenches``."""
+        if isinstance(body, BodyHandle):
+            if len(body) != 1:
+                raise ValueError("apply_wrench: pass handle.body(i) for a multi-instance handle")
+            body = body.start
+        body = int(body)
+        if not 0 <= body < self.num_bodies:
+            raise IndexError(f"body index {body} out of range [0, {self.num_bodies})")
+        q = self.q[body]
+        A, p = q[3:].reshape(3, 3), q[:3]
+        if point is None:
+            mc = np.asarray(self._core.scene.body(body).mass_x_bar)
+            x_bar = mc / float(self._core.scene.body(body).mass)
+        else:
+            x_bar = np.linalg.solve(A, np.asarray(point, dtype=np.float64).reshape(3) - p)
+        if self._wrenches is None:
+            self._wrenches = _core.BodyWrenchTerm(self.num_bodies)
+            self._core.add_term(self._wrenches)
+        self._wrenches.set_wrench(
+            body,
+            np.asarray(force, dtype=np.float64).reshape(3),
+            np.asarray(torque, dtype=np.float64).reshape(3),
+            x_bar,
+        )
+
+    def clear_wrenches(self) -> None:
+        """Remove every wrench ``apply_wrench`` set."""
+        if self._wrenches is not None:
+            self._wrenches.clear()
 
     def joint_violation(self) -> tuple[float, float]:
         """(largest anchor separation in m, largest axis/frame misalignment in rad) now."""

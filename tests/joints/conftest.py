@@ -75,17 +75,17 @@ def pinocchio_chain(handles):
     return model
 
 
-def aba_rk4(model, q0, v0, t_end: float, h: float, sample_every: int, velocities=False):
+def aba_rk4(model, q0, v0, t_end: float, h: float, sample_every: int, velocities=False, tau=None):
     """RK4 on (q, v) with Pinocchio's ABA (zero torque), configurations advanced with
     pin.integrate (on the manifold, for ball joints); samples q (and v) every
     `sample_every` steps."""
     import pinocchio as pin
 
     data = model.createData()
-    tau = np.zeros(model.nv)
+    zero = np.zeros(model.nv)
 
     def acc(q, v):
-        return pin.aba(model, data, q, v, tau)
+        return pin.aba(model, data, q, v, zero if tau is None else tau(q, v))
 
     q, v = np.array(q0, float), np.array(v0, float)
     qs, vs = [q.copy()], [v.copy()]

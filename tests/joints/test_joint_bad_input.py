@@ -79,8 +79,42 @@ def test_multi_instance_handle_and_bad_body_index():
         scene.add_joint("ball", h.body(0), None, name="j")
 
 
-def test_joint_physics_not_simulated_yet_is_refused():
+def test_bad_actuators_and_physics_name_the_joint():
     scene, a, b = _two_links()
-    scene.add_joint("revolute", a, b, anchor=(0, 0, -1), axis=(0, 1, 0), damping=0.1, name="d")
-    with pytest.raises(NotImplementedError, match="joint 'd'"):
+    ball = scene.add_joint("ball", a, b, anchor=(0, 0, -1), name="wrist")
+    with pytest.raises(ValueError, match="joint 'wrist'.*revolute and prismatic"):
+        scene.add_actuator(ball, "position", kp=1.0)
+    scene2, a2, b2 = _two_links()
+    hinge = scene2.add_joint("revolute", a2, b2, anchor=(0, 0, -1), axis=(0, 1, 0), name="knee")
+    for kwargs, message in [
+        (dict(kind="servo"), "unknown actuator kind"),
+        (dict(kind="position", kp=-1.0), "kp must be finite and >= 0"),
+        (dict(gear=0.0), "gear must be finite and non-zero"),
+        (dict(ctrl_range=(1.0, -1.0)), "ctrl_range must have lower <= upper"),
+        (dict(force_range=(2.0, 1.0)), "force_range must have lower <= upper"),
+    ]:
+        with pytest.raises(ValueError, match=f"joint 'knee'.*{message}"):
+            scene2.add_actuator(hinge, **kwargs)
+    with pytest.raises(ValueError, match="no joint named"):
+        scene2.add_actuator("hip")
+
+
+def test_limits_must_contain_the_loaded_configuration():
+    scene, a, b = _two_links()
+    scene.add_joint(
+        "revolute", a, b, anchor=(0, 0, -1), axis=(0, 1, 0), limits=(0.2, 0.5), name="stop"
+    )
+    with pytest.raises(ValueError, match="joint 'stop'.*strictly inside the limits"):
         abdsim.World(scene)
+
+
+def test_set_joint_forces_checks_its_input():
+    scene, a, b = _two_links()
+    scene.add_joint("ball", None, a, anchor=(0, 0, 0), name="top")
+    scene.add_joint("revolute", a, b, anchor=(0, 0, -1), axis=(0, 1, 0), name="elbow")
+    world = abdsim.World(scene)
+    with pytest.raises(ValueError, match=r"expected 4 values"):
+        world.set_joint_forces([1.0])
+    with pytest.raises(ValueError, match="joint 'top' \\(ball\\) takes none"):
+        world.set_joint_forces([1.0, 0.0, 0.0, 1.0])
+    world.set_joint_forces([0.0, 0.0, 0.0, 1.0])  # fine: the hinge takes it
