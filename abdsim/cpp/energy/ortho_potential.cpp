@@ -1,6 +1,46 @@
 #include "energy/ortho_potential.h"
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+
 namespace abd {
+namespace {
+
+// Sylvester's criterion for semi-definiteness: every principal minor is >= 0.
+bool psd3(const Mat3& R) {
+  if (R(0, 0) < 0.0 || R(1, 1) < 0.0 || R(2, 2) < 0.0) return false;
+  if (R(0, 0) * R(1, 1) - R(0, 1) * R(1, 0) < 0.0) return false;
+  if (R(0, 0) * R(2, 2) - R(0, 2) * R(2, 0) < 0.0) return false;
+  if (R(1, 1) * R(2, 2) - R(1, 2) * R(2, 1) < 0.0) return false;
+  return R.determinant() >= 0.0;
+}
+
+// A 3x3 matrix flattened row by row (the layout of A's rows in q).
+Vec9 flatten_rows(const Mat3& M) {
+  Vec9 v;
+  for (int r = 0; r < 3; ++r) v.segment<3>(3 * r) = M.row(r).transpose();
+  return v;
+}
+
+// The exact Hessian, regrouped around R = AAᵀ − I:
+//   ∂²Ψ/∂a_i∂a_j = 4 a_j a_iᵀ + 4 δ_ij AᵀA + 4 R_ij I,
+// i.e. 2 JᵀJ + 4 (R ⊗ I₃) with J the Jacobian of AAᵀ: PSD whenever R is.
+Mat9 hessian_from(const Mat3& A, const Mat3& R) {
+  Mat9 H;
+  const Mat3 AtA = A.transpose() * A;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      Mat3 block = A.row(j).transpose() * A.row(i);
+      if (i == j) block += AtA;
+      block.diagonal().array() += R(i, j);
+      H.block<3, 3>(3 * i, 3 * j) = 4.0 * block;
+    }
+  return H;
+}
+
+}  // namespace
 
 double ortho_potential(const Mat3& A) {
   return (A * A.transpose() - Mat3::Identity()).squaredNorm();
@@ -8,34 +48,70 @@ double ortho_potential(const Mat3& A) {
 
 Vec9 ortho_potential_gradient(const Mat3& A) {
   // ∂Ψ/∂a_i = 4(|a_i|²−1) a_i + 4 Σ_{j≠i} (a_i·a_j) a_j  ==  4 (AAᵀ − I) A, row i.
-  const Mat3 G = 4.0 * (A * A.transpose() - Mat3::Identity()) * A;
-  Vec9 g;
-  for (int i = 0; i < 3; ++i) g.segment<3>(3 * i) = G.row(i).transpose();
-  return g;
+  return flatten_rows(4.0 * (A * A.transpose() - Mat3::Identity()) * A);
 }
 
 Mat9 ortho_potential_hessian(const Mat3& A) {
-  Mat9 H;
-  const Mat3 I = Mat3::Identity();
-  for (int i = 0; i < 3; ++i) {
-    const Vec3 ai = A.row(i).transpose();
-    for (int j = 0; j < 3; ++j) {
-      const Vec3 aj = A.row(j).transpose();
-      Mat3 block;
-      if (i == j) {
-        block = 8.0 * ai * ai.transpose() + 4.0 * (ai.squaredNorm() - 1.0) * I;
-        for (int k = 0; k < 3; ++k) {
-          if (k == i) continue;
-          const Vec3 ak = A.row(k).transpose();
-          block += 4.0 * ak * ak.transpose();
-        }
-      } else {
-        block = 4.0 * aj * ai.transpose() + 4.0 * ai.dot(aj) * I;
-      }
-      H.block<3, 3>(3 * i, 3 * j) = block;
-    }
+  return hessian_from(A, A * A.transpose() - Mat3::Identity());
+}
+
+// Closed-form eigen-system of ∇²Ψ. With A = U Σ Vᵀ (SVD) and δA = U X Vᵀ (an orthogonal
+// change of variables), AAᵀ − I = U(Σ² − I)Uᵀ and
+//   δAᵀ∇²Ψ δA = 2‖XΣ + ΣXᵀ‖² + 4 Σ_ij (σ_i² − 1) X_ij²,
+// which splits into
+//   X_ii:               eigenvalue 12σ_i² − 4,                      direction u_i v_iᵀ;
+//   (X_ij, X_ji), i<j:  4(σ_i² + σ_j² − 1 ± σ_i σ_j),               (u_i v_jᵀ ± u_j v_iᵀ)/√2.
+// At a rotation the "−" modes (δA = W A, W skew: the rotations) have eigenvalue 0 and the
+// others 8. The projection subtracts the negative modes (there are at most a few, and
+// usually only slightly negative rotational ones) from the exact Hessian.
+Mat9 ortho_potential_hessian_psd(const Mat3& A) {
+  Mat3 U, V;
+  Vec3 s;
+  // V and Σ² from AᵀA in closed form (cheap; the simulator calls this in its inner loop),
+  // U = A V Σ⁻¹; a nearly singular A takes the full SVD instead.
+  Eigen::SelfAdjointEigenSolver<Mat3> eig;
+  eig.computeDirect(A.transpose() * A);
+  const Vec3 s2 = eig.eigenvalues();
+  if (s2[0] > 1e-6 * s2[2] && s2[0] > 0.0) {
+    V = eig.eigenvectors();
+    s = s2.cwiseSqrt();
+    U = A * V * s.cwiseInverse().asDiagonal();
+  } else {
+    const Eigen::JacobiSVD<Mat3> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    U = svd.matrixU();
+    V = svd.matrixV();
+    s = svd.singularValues();
   }
+  Mat9 H = ortho_potential_hessian(A);
+  auto remove = [&](double lambda, const Mat3& E) {
+    if (lambda >= 0.0) return;
+    const Vec9 e = flatten_rows(E);
+    H.noalias() -= lambda * e * e.transpose();
+  };
+  for (int i = 0; i < 3; ++i) remove(12.0 * s[i] * s[i] - 4.0, U.col(i) * V.col(i).transpose());
+  const double inv_sqrt2 = 1.0 / std::sqrt(2.0);
+  for (int i = 0; i < 3; ++i)
+    for (int j = i + 1; j < 3; ++j) {
+      const Mat3 Eij = U.col(i) * V.col(j).transpose();
+      const Mat3 Eji = U.col(j) * V.col(i).transpose();
+      const double base = s[i] * s[i] + s[j] * s[j] - 1.0;
+      remove(4.0 * (base + s[i] * s[j]), inv_sqrt2 * (Eij + Eji));
+      remove(4.0 * (base - s[i] * s[j]), inv_sqrt2 * (Eij - Eji));
+    }
   return H;
+}
+
+double ortho_potential_derivatives(const Mat3& A, bool project, double ws, Vec9* g, Mat9* H) {
+  const Mat3 R = A * A.transpose() - Mat3::Identity();
+  if (g) *g += ws * flatten_rows(4.0 * R * A);
+  if (H) {
+    // R PSD: the Hessian is PSD as it stands (see hessian_from); else clamp.
+    if (!project || psd3(R))
+      *H += ws * hessian_from(A, R);
+    else
+      *H += ws * ortho_potential_hessian_psd(A);
+  }
+  return R.squaredNorm();
 }
 
 }  // namespace abd

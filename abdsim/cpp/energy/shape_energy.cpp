@@ -4,7 +4,6 @@
 #include <string>
 
 #include "common/affine.h"
-#include "common/psd.h"
 #include "energy/arap.h"
 #include "energy/ortho_potential.h"
 
@@ -31,13 +30,11 @@ ShapeEnergyResult shape_energy(int uid, const Vec12& q, double kappa, double vol
   const double w = kappa * volume;
   ShapeEnergyResult r;
   if (uid == kOrthoPotential) {
-    r.value = w * ortho_potential(A);
-    r.gradient.tail<9>() = w * ortho_potential_gradient(A);
-    if (want_hessian) {
-      Mat9 H = ortho_potential_hessian(A);
-      if (project_psd) H = abd::project_psd(H);
-      r.hessian.bottomRightCorner<9, 9>() = w * H;
-    }
+    Vec9 g = Vec9::Zero();
+    Mat9 H = Mat9::Zero();
+    r.value = w * ortho_potential_derivatives(A, project_psd, w, &g, want_hessian ? &H : nullptr);
+    r.gradient.tail<9>() = g;
+    r.hessian.bottomRightCorner<9, 9>() = H;
   } else {
     r.value = w * arap(A);
     r.gradient.tail<9>() = w * arap_gradient(A);

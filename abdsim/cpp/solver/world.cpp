@@ -316,7 +316,7 @@ void World::newton_body(int b, double c2, Vec12& x, BodyNewton& r,
       break;
     }
     step_sizes(dq, h, r.step_translation, r.step_affine);
-    const bool converged =
+    const bool small =
         r.step_translation <= settings_.tol_translation && r.step_affine <= settings_.tol_affine;
     const double slope = g.dot(dq);
     double alpha = 1.0;
@@ -330,13 +330,20 @@ void World::newton_body(int b, double c2, Vec12& x, BodyNewton& r,
       }
       alpha *= 0.5;
     }
+    // Converged: a small step that the line search took whole (a shortened step says the
+    // quadratic model is off, so a small direction proves nothing), or a small step that
+    // no longer decreases Π at all, or one far below tolerance (round-off: there the
+    // Armijo test is noise).
+    const double ratio = std::max(r.step_translation / settings_.tol_translation,
+                                  r.step_affine / settings_.tol_affine);
+    const bool converged = small && (!accepted || alpha == 1.0 || ratio <= kRoundoffStep);
     if (accepted) {
       x += alpha * dq;
       E = E_new;
       r.kinetic = ek;
       r.shape = es;
       if (alphas) (*alphas)[it] = std::min((*alphas)[it], alpha);
-    } else if (!converged) {
+    } else if (!small) {
       r.status = kLineSearch;
       break;
     }

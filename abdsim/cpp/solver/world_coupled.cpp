@@ -646,6 +646,14 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       links.clear();
       rest_new = body_energies(trial_, c2, body_E_new_, links);
     }
+    // A small direction only proves convergence when the island took it whole: a step the
+    // CCD bound or Armijo shortened says the model is off there. Exceptions: alpha 0 (a
+    // converged island whose step no longer decreases Π: round-off) and directions a
+    // hundred times below tolerance (bounds and Armijo tests are noise at that size).
+    for (int r = 0; r < n_; ++r)
+      if (!inactive[r] && island(r) == r && alpha_[r] > 0.0 && alpha_[r] < 1.0 &&
+          island_ratio[r] * (1.0 + damping_[r]) > kRoundoffStep)
+        converged_[r] = 0;
     double min_alpha = 1.0;
     for (int r = 0; r < n_; ++r)
       if (!inactive[r] && island(r) == r) min_alpha = std::min(min_alpha, alpha_[r]);

@@ -25,4 +25,9 @@ inline void step_sizes(const Vec12& dq, double h, double& translation, double& a
 // so a change below ~1e-12 |Π| is noise, not an increase.
 inline double roundoff(double energy) { return 1e-12 * std::abs(energy); }
 
+// A Newton direction this far below its tolerance (as a fraction of it) converges whatever
+// the line search did with it: at that size step bounds and Armijo tests are noise. Above
+// it, only a step taken whole converges (a shortened step says the model is off).
+constexpr double kRoundoffStep = 1e-2;
+
 }  // namespace abd::world_detail
