@@ -103,3 +103,67 @@ def aba_rk4(model, q0, v0, t_end: float, h: float, sample_every: int, velocities
             qs.append(q.copy())
             vs.append(v.copy())
     return (np.array(qs), np.array(vs)) if velocities else np.array(qs)
+
+
+def _robots_dir():
+    import sys
+    from pathlib import Path
+
+    for entry in sys.path:
+        candidate = Path(entry or ".") / "cmeel.prefix/share/example-robot-data/robots"
+        if candidate.is_dir():
+            return candidate
+    return None
+
+
+def robot_model(description: str, filename: str):
+    """Pinocchio's fixed-base model of an example-robot-data URDF (None if not installed)."""
+    import pinocchio as pin
+
+    robots = _robots_dir()
+    path = None if robots is None else robots / description / "urdf" / filename
+    if path is None or not path.is_file():
+        return None
+    return pin.buildModelFromUrdf(str(path))
+
+
+_AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
+
+
+def articulation_from_pinocchio(model, q0, kappa: float = 1e10, **settings):
+    """The same fixed-base tree in abdsim: per Pinocchio joint one body (a box spanning the
+    joint origin and the centre of mass, carrying the joint body's exact mass, centre of mass
+    and inertia; its rest frame the joint frame)
+    placed at the pose of q0, and the joint (revolute or prismatic about its own axis) at the
+    joint frame's origin. Returns (scene, body of each joint index)."""
+    import pinocchio as pin
+
+    data = model.createData()
+    pin.forwardKinematics(model, data, q0)
+    scene = abdsim.Scene(contact=False, **settings)
+    bodies = {0: None}
+    for i in range(1, model.njoints):
+        joint = model.joints[i]
+        name = joint.shortname()  # JointModelRZ, JointModelPX, JointModelRevoluteUnaligned...
+        if name in ("JointModelRevoluteUnaligned", "JointModelPrismaticUnaligned"):
+            local_axis = np.asarray(joint.extract().axis)
+        else:
+            local_axis = np.asarray(_AXES[name[-1]])
+        kind = "revolute" if name.startswith("JointModelR") else "prismatic"
+        inertia = model.inertias[i]
+        sc = abdsim.geometry.box(np.abs(inertia.lever) + 0.04)
+        sc = abdsim.geometry.triangle_mesh(sc.positions + inertia.lever / 2, sc.triangles)
+        abdsim.AffineBodyConstitution("OrthoPotential").apply_to(sc, kappa=kappa)
+        abdsim.assign_rigid_body(sc, inertia.mass, inertia.lever, inertia.inertia)
+        sc.transforms = data.oMi[i].homogeneous[None]
+        h = scene.add(sc)
+        scene.add_joint(
+            kind,
+            bodies[model.parents[i]],
+            h,
+            anchor=data.oMi[i].translation,
+            axis=data.oMi[i].rotation @ local_axis,
+            name=model.names[i],
+        )
+        bodies[i] = h
+    return scene, bodies
