@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 import abdsim
-from tests.joints.conftest import aba_rk4, articulation_from_pinocchio, robot_model
+from abdsim.bridges.articulation import articulation_from_pinocchio
+from tests.joints.conftest import aba_rk4, robot_model
 
 
 @pytest.mark.parametrize(
@@ -24,9 +25,14 @@ def test_arm_falls_like_pinocchio(description, filename, tolerance):
     q0 = pin.neutral(model) + 0.3 * np.sin(np.arange(model.nq) + 1.0)  # non-singular
     # Newton tolerances 10x tighter than the defaults: the Panda's 15 g fingers on a
     # falling hand are off by 2.7 mm at the defaults (Newton's stopping rule, not joints).
-    scene, bodies = articulation_from_pinocchio(
-        model, q0, dt=1e-3, integrator="bdf2", newton_tol_translation=1e-3, newton_tol_affine=1e-2
+    scene = abdsim.Scene(
+        dt=1e-3,
+        integrator="bdf2",
+        contact=False,
+        newton_tol_translation=1e-3,
+        newton_tol_affine=1e-2,
     )
+    bodies = articulation_from_pinocchio(model, q0, scene)
     world = abdsim.World(scene)
     ref = aba_rk4(model, q0, np.zeros(model.nv), 0.5, 1e-4, 100)  # every 0.01 s
     data = model.createData()
