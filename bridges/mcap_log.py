@@ -14,6 +14,9 @@ topic                         schema                      encoding   content
                                                                      transform and dT/dt, position,
                                                                      quaternion, twist per body
 ``NS/diagnostics``            ``abdsim.StepDiagnostics``  json       per step: solver diagnostics
+``NS/joints``                 ``abdsim.JointStates``      json       per step, for a World with
+                                                                     joints: each joint's name,
+                                                                     kind, position and velocity
 ============================  ==========================  =========  ===========================
 
 Foxglove's 3D panel shows the bodies from ``scene`` + ``tf``; its Plot panel can plot e.g.
@@ -108,6 +111,32 @@ DIAGNOSTICS_SCHEMA: dict[str, Any] = {
         "wall_time": {"type": "number", "description": "seconds spent in the step"},
     },
     "additionalProperties": True,
+}
+
+#: Schema of ``NS/joints`` (MuJoCo's joint conventions, see ``World.joint_positions``).
+JOINT_STATES_SCHEMA: dict[str, Any] = {
+    "title": "abdsim.JointStates",
+    "description": 'Joint coordinates after a step (Plot: joints[:]{name=="j"}.position[0])',
+    "type": "object",
+    "properties": {
+        "timestamp": {
+            "type": "object",
+            "properties": {"sec": {"type": "integer"}, "nsec": {"type": "integer"}},
+        },
+        "step": {"type": "integer"},
+        "joints": {
+            "type": "array",
+            "items": {
+                "type": "object",
+                "properties": {
+                    "name": {"type": "string"},
+                    "kind": {"type": "string"},
+                    "position": {"type": "array", "items": {"type": "number"}},
+                    "velocity": {"type": "array", "items": {"type": "number"}},
+                },
+            },
+        },
+    },
 }
 
 _PALETTE = (
@@ -285,6 +314,8 @@ class McapLogger:
             ch = fox.channels.SceneUpdateChannel(topic, context=self._context)
         elif kind == "bodies":
             ch = fox.Channel(topic, schema=BODY_STATES_SCHEMA, context=self._context)
+        elif kind == "joints":
+            ch = fox.Channel(topic, schema=JOINT_STATES_SCHEMA, context=self._context)
         else:
             ch = fox.Channel(topic, schema=DIAGNOSTICS_SCHEMA, context=self._context)
         entry.channels[kind] = ch
@@ -399,6 +430,25 @@ class McapLogger:
         msg.setdefault("step", max(self._steps[entry.name] - 1, 0))
         self._channel(entry, "diagnostics").log(_dumps(msg), log_time=t_ns)
 
+    def log_joints(
+        self,
+        time: float,
+        joints: Sequence[dict[str, Any]],
+        *,
+        step: int | None = None,
+        namespace: str | None = None,
+    ) -> None:
+        """Log joint states: dicts with ``name``, ``kind``, ``position``, ``velocity``."""
+        self._check_open()
+        entry = self._namespace(namespace)
+        t_ns = self._time_ns(time)
+        msg = {
+            "timestamp": {"sec": t_ns // 1_000_000_000, "nsec": t_ns % 1_000_000_000},
+            "step": int(step) if step is not None else max(self._steps[entry.name] - 1, 0),
+            "joints": to_jsonable(list(joints)),
+        }
+        self._channel(entry, "joints").log(_dumps(msg), log_time=t_ns)
+
     def log_world(self, world: Any, *, namespace: str | None = None) -> None:
         """Log a World's current time, transforms, velocities and last step's diagnostics.
 
@@ -417,6 +467,21 @@ class McapLogger:
             step=step,
             namespace=namespace,
         )
+        joints = getattr(world, "joints", None)
+        if joints:
+            q, v = world.joint_positions(), world.joint_velocities()
+            states, iq, iv = [], 0, 0
+            for j in joints:
+                states.append(
+                    {
+                        "name": j.name,
+                        "kind": j.kind,
+                        "position": q[iq : iq + j.nq],
+                        "velocity": v[iv : iv + j.nv],
+                    }
+                )
+                iq, iv = iq + j.nq, iv + j.nv
+            self.log_joints(t, states, step=step, namespace=namespace)
         diag = adapter.world_diagnostics(world)
         if diag is None:
             return

@@ -46,11 +46,12 @@ void solve_constrained(const BlockSystem& system, const std::vector<ConstraintRo
         if ((*grad)[d] != 0.0) triplets.emplace_back(n + k, 12 * index[body] + d, (*grad)[d]);
     }
   }
-  Eigen::SparseMatrix<double> K(n + m, n + m);
-  K.setFromTriplets(triplets.begin(), triplets.end());  // exact KKT (lower triangle)
-  Eigen::SparseMatrix<double> K_reg = K;
+  // The −εI block enters with the triplets (inserting into a compressed matrix would cost
+  // O(nnz) per entry); the exact K is K_reg + ε [0 0; 0 I].
   const double eps = 1e-12 * (scale > 0.0 ? scale : 1.0);
-  for (Eigen::Index k = 0; k < m; ++k) K_reg.coeffRef(n + k, n + k) = -eps;
+  for (Eigen::Index k = 0; k < m; ++k) triplets.emplace_back(n + k, n + k, -eps);
+  Eigen::SparseMatrix<double> K_reg(n + m, n + m);
+  K_reg.setFromTriplets(triplets.begin(), triplets.end());  // lower triangle
 
   VecX b(n + m);
   for (int body = 0; body < n_bodies; ++body)
@@ -62,7 +63,8 @@ void solve_constrained(const BlockSystem& system, const std::vector<ConstraintRo
     throw SolverError("sparse LDLT factorisation of the constrained Newton system failed");
   VecX u = ldlt.solve(b);
   for (int refine = 0; refine < 2 && m > 0; ++refine) {
-    const VecX residual = b - K.selfadjointView<Eigen::Lower>() * u;
+    VecX residual = b - K_reg.selfadjointView<Eigen::Lower>() * u;
+    residual.tail(m) -= eps * u.tail(m);  // b − K u with the exact K
     u += ldlt.solve(residual);
   }
   // Redundant rows (a loop, a doubled joint) make K singular: λ blows up or goes non-finite.
