@@ -119,10 +119,7 @@ JOINT_STATES_SCHEMA: dict[str, Any] = {
     "description": 'Joint coordinates after a step (Plot: joints[:]{name=="j"}.position[0])',
     "type": "object",
     "properties": {
-        "timestamp": {
-            "type": "object",
-            "properties": {"sec": {"type": "integer"}, "nsec": {"type": "integer"}},
-        },
+        "timestamp": DIAGNOSTICS_SCHEMA["properties"]["timestamp"],
         "step": {"type": "integer"},
         "joints": {
             "type": "array",
@@ -423,7 +420,7 @@ class McapLogger:
         msg = to_jsonable(diagnostics)
         if not isinstance(msg, dict):
             msg = {"value": msg}
-        msg["timestamp"] = {"sec": t_ns // 1_000_000_000, "nsec": t_ns % 1_000_000_000}
+        msg["timestamp"] = _timestamp(t_ns)
         msg["time"] = float(time)
         if step is not None:
             msg.setdefault("step", int(step))
@@ -442,11 +439,8 @@ class McapLogger:
         self._check_open()
         entry = self._namespace(namespace)
         t_ns = self._time_ns(time)
-        msg = {
-            "timestamp": {"sec": t_ns // 1_000_000_000, "nsec": t_ns % 1_000_000_000},
-            "step": int(step) if step is not None else max(self._steps[entry.name] - 1, 0),
-            "joints": to_jsonable(list(joints)),
-        }
+        msg = {"timestamp": _timestamp(t_ns), "joints": to_jsonable(list(joints))}
+        msg["step"] = int(step) if step is not None else max(self._steps[entry.name] - 1, 0)
         self._channel(entry, "joints").log(_dumps(msg), log_time=t_ns)
 
     def log_world(self, world: Any, *, namespace: str | None = None) -> None:
@@ -772,6 +766,11 @@ def to_jsonable(obj: Any, _depth: int = 0) -> Any:
         if not callable(v):
             attrs[k] = to_jsonable(v, _depth + 1)
     return attrs if attrs else repr(obj)
+
+
+def _timestamp(t_ns: int) -> dict[str, int]:
+    """foxglove.Time of a log time in nanoseconds."""
+    return {"sec": t_ns // 1_000_000_000, "nsec": t_ns % 1_000_000_000}
 
 
 def _dumps(msg: dict[str, Any]) -> bytes:
