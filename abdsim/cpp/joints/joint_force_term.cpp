@@ -108,6 +108,16 @@ void JointForceTerm::begin_step(const StepContext& ctx) {
     const double theta = theta_of(e, ctx.q_t, &gc, &gp);
     double rate = gc.dot(ctx.q_dot_t.segment<12>(12 * f.spec.child));
     if (f.spec.parent >= 0) rate += gp.dot(ctx.q_dot_t.segment<12>(12 * f.spec.parent));
+    // History shifts once per step: a step begun again from the same start (after a failed
+    // attempt) keeps the previous one.
+    if (e.has_start && (theta != e.start_theta || rate != e.start_rate)) {
+      e.prev_theta = e.start_theta;
+      e.prev_rate = e.start_rate;
+      e.has_prev = true;
+    }
+    e.start_theta = theta;
+    e.start_rate = rate;
+    e.has_start = true;
     if (bdf2 && e.has_prev) {
       e.theta_hat = (4.0 * theta - e.prev_theta) / 3.0;
       e.theta_tilde = e.theta_hat + c_ * (4.0 * rate - e.prev_rate) / 3.0;
@@ -116,9 +126,6 @@ void JointForceTerm::begin_step(const StepContext& ctx) {
       e.theta_tilde = theta + c_ * rate;
     }
     e.theta_t = theta;
-    e.prev_theta = theta;
-    e.prev_rate = rate;
-    e.has_prev = true;
     // Barrier stiffness on the scale of the joint's kinetic term: κ d̂² ~ I (d̂/c)².
     e.kappa = e.inertia / (c_ * c_);
   }

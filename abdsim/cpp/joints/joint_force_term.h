@@ -82,7 +82,8 @@ class JointForceTerm : public EnergyTerm {
     // per step
     double theta_t = 0.0, theta_hat = 0.0, theta_tilde = 0.0;
     double prev_theta = 0.0, prev_rate = 0.0;  // at the previous step start (BDF2)
-    bool has_prev = false;
+    double start_theta = 0.0, start_rate = 0.0;  // at this step's start (a retry repeats it)
+    bool has_prev = false, has_start = false;
     double kappa = 0.0;
   };
   double theta_of(const Element& e, const VecX& q, Vec12* gc, Vec12* gp) const;
