@@ -58,13 +58,23 @@ class SceneSettings:
         d_hat: barrier activation distance d̂ (m): surfaces closer than d̂ (beyond their
             ``thickness``) repel; resting gaps end up in (0, d̂].
         contact_stiffness: barrier stiffness κ (N/m³; the term's κ, = IPC's κ / h²);
-            0: IPC's adaptive stiffness (at the start of every step with active contact,
-            balanced against the rest of Π's gradient and clamped to [κ_min, 100 κ_min];
-            doubled within a step while a gap keeps closing below 1e-9 × scene size).
+            0: IPC's adaptive stiffness, changed only when it cannot add energy: at a step
+            that starts with no pair inside d̂ it is balanced against the rest of Π's
+            gradient, clamped to [κ_min, 100 κ_min] (κ_min measured against 1e3 d̂, so it
+            does not depend on the scene's size), and doubled while a gap keeps closing
+            below 1e-9 × scene size; while pairs are compressed it stays, unless a gap
+            shrinks below 1e-2 d̂ (a load far above the one it was chosen for). A state that
+            starts with pairs inside d̂ (bodies placed resting on each other) gets the κ
+            that makes it an equilibrium, so nothing jumps.
         friction: default Coulomb coefficient μ of every pair (0: frictionless); per pair in
             ``Scene.contact_table``, with the ground in ``Scene.add_ground``.
         eps_v: friction smoothing speed ε_v (m/s): "static" friction creeps at a fraction of
             this speed (lagged IPC friction).
+        friction_iterations: IPC's friction iterations: after Newton converges, friction's
+            normal forces and tangent bases (lagged at the step start) are evaluated again at
+            the solution and Newton goes on, this many times per step (0: lagged once, so a
+            body that starts a step compressed in the barrier brakes with a transient force).
+            Under BDF2 friction measures sliding from the integrator's history point q̂.
         kinematic_drive_stiffness: a kinematic body whose scripted move would cross contact
             is, for that step, not placed at its target but driven there by
             s (½ (x − target)ᵀ M (x − target) + h² Ψ), i.e. as the same body s times heavier
@@ -101,6 +111,7 @@ class SceneSettings:
     contact_stiffness: float = 0.0
     friction: float = 0.5
     eps_v: float = 1e-3
+    friction_iterations: int = 1
     kinematic_drive_stiffness: float = 1e4
 
     @classmethod
@@ -145,7 +156,7 @@ class SceneSettings:
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
                 raise ValueError(f"{name} must be finite and >= 0, got {v!r}")
-        for name in ("direct_max_dofs", "num_threads", "history_limit"):
+        for name in ("direct_max_dofs", "num_threads", "history_limit", "friction_iterations"):
             if int(getattr(self, name)) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)!r}")
 
@@ -157,6 +168,7 @@ class SceneSettings:
         s.tol_translation = float(self.newton_tol_translation)
         s.tol_affine = float(self.newton_tol_affine)
         s.max_newton_iterations = int(self.newton_max_iterations)
+        s.friction_iterations = int(self.friction_iterations)
         s.max_line_search_iterations = int(self.line_search_max_iterations)
         s.armijo_c = float(self.armijo_c)
         s.ccd_safety = float(self.ccd_safety)

@@ -376,7 +376,9 @@ def test_adaptive_kappa(scenes, contact, stack):
     mass = [2.0, 3.0, 4.0]
     term = scenes.term(geoms, bg, q, mass=mass, d_hat=D_HAT, kappa=0.0, dt=0.01)
     assert term.adaptive_kappa
-    kmin = contact.min_barrier_stiffness(term.bbox_diagonal, D_HAT, 3.0, 0.01)
+    # κ_min is IPC's, measured against 1e3 d̂ instead of the scene's size (scale-free)
+    assert term.stiffness_length == pytest.approx(1e3 * D_HAT)
+    kmin = contact.min_barrier_stiffness(term.stiffness_length, D_HAT, 3.0, 0.01)
     assert term.kappa == pytest.approx(kmin)
     # gradient balance: a rest gradient that exactly cancels 7 κ_min ∇B₁ gives 7 κ_min
     term.kappa = 1.0

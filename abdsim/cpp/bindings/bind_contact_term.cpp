@@ -237,7 +237,9 @@ void bind_contact_term(py::module_& m) {
       .def_property_readonly("face_offsets", [](const IpcContactTerm& t) { return t.mesh().face_offset; })
       .def_property_readonly("edges", [](const IpcContactTerm& t) { return t.mesh().edges; })
       .def_property_readonly("faces", [](const IpcContactTerm& t) { return t.mesh().faces; })
-      .def_property_readonly("bbox_diagonal", &IpcContactTerm::bbox_diagonal);
+      .def_property_readonly("bbox_diagonal", &IpcContactTerm::bbox_diagonal)
+      .def_property_readonly("stiffness_length", &IpcContactTerm::stiffness_length,
+                             "the length κ_min is measured against (1e3 d̂; IPC's bbox diagonal)");
 }
 
 }  // namespace abd::bindings

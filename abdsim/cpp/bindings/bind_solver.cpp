@@ -234,6 +234,7 @@ void bind_settings(py::module_& m) {
       .def_readwrite("tol_translation", &SolverSettings::tol_translation)
       .def_readwrite("tol_affine", &SolverSettings::tol_affine)
       .def_readwrite("max_newton_iterations", &SolverSettings::max_newton_iterations)
+      .def_readwrite("friction_iterations", &SolverSettings::friction_iterations)
       .def_readwrite("armijo_c", &SolverSettings::armijo_c)
       .def_readwrite("max_line_search_iterations", &SolverSettings::max_line_search_iterations)
       .def_readwrite("ccd_safety", &SolverSettings::ccd_safety)

@@ -1,12 +1,14 @@
 #include "contact/friction_set.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "contact/friction/friction_potential.h"
 
 namespace abd::contact {
 
-std::vector<FrictionStencil> lag_friction(const ActiveSet& set, const BarrierParams& p) {
+std::vector<FrictionStencil> lag_friction(const ActiveSet& set, const std::vector<Vec3>& x_ref,
+                                          const BarrierParams& p) {
   std::vector<FrictionStencil> out;
   for (const ContactStencil& s : set.stencils) {
     if (!(s.mu > 0.0)) continue;
@@ -19,10 +21,23 @@ std::vector<FrictionStencil> lag_friction(const ActiveSet& set, const BarrierPar
     f.w = g.w;
     f.basis = g.basis;
     f.mu_lambda = s.mu * lambda;
-    f.x_t = gather_positions(s, set.x);
+    f.x_t = gather_positions(s, x_ref);
     out.push_back(f);
   }
   return out;
+}
+
+bool same_friction(const std::vector<FrictionStencil>& a, const std::vector<FrictionStencil>& b,
+                   double rtol) {
+  if (a.size() != b.size()) return false;
+  double largest = 0.0;
+  for (const FrictionStencil& f : a) largest = std::max(largest, f.mu_lambda);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].nv != b[i].nv || a[i].vertices != b[i].vertices) return false;
+    if (std::abs(a[i].mu_lambda - b[i].mu_lambda) > rtol * largest) return false;
+    if ((a[i].basis - b[i].basis).cwiseAbs().maxCoeff() > rtol) return false;
+  }
+  return true;
 }
 
 StencilEnergy friction_energy(const FrictionStencil& f, const std::vector<Vec3>& x, double eps,

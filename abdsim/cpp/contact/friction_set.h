@@ -17,10 +17,18 @@ struct FrictionStencil {
   StencilWeights w;
   Mat3x2 basis;
   double mu_lambda = 0.0;
-  StencilVec x_t;  // stencil coordinates at the start of the step
+  StencilVec x_t;  // stencil coordinates at the reference point (the step start for BDF1)
 };
 
-std::vector<FrictionStencil> lag_friction(const ActiveSet& at_step_start, const BarrierParams& p);
+// Weights, bases and normal forces from `set` (the step start, or a converged iterate); the
+// sliding is measured from the vertex positions x_ref (the integrator's reference point).
+std::vector<FrictionStencil> lag_friction(const ActiveSet& set, const std::vector<Vec3>& x_ref,
+                                          const BarrierParams& p);
+
+// The same stencils with normal forces within `rtol` of each other (relative to the largest)
+// and tangent bases within `rtol`: lagging again would change nothing that matters.
+bool same_friction(const std::vector<FrictionStencil>& a, const std::vector<FrictionStencil>& b,
+                   double rtol = 1e-3);
 
 // μλ f0(|Tᵀ Σ w_i (x_i − x_i^t)|; eps) with gradient and (PSD) Hessian in stencil coordinates.
 StencilEnergy friction_energy(const FrictionStencil& f, const std::vector<Vec3>& x, double eps,

@@ -11,6 +11,10 @@
 #include "contact/parallel.h"
 
 namespace abd {
+namespace {
+// Gap (fraction of d̂) below which a compressed pair's κ may still be raised (see update()).
+constexpr double kCompressedGapFraction = 1e-2;
+}  // namespace
 using namespace contact;
 
 namespace {
@@ -82,7 +86,7 @@ IpcContactTerm::IpcContactTerm(const SceneData& scene, const ContactSettings& se
     }
   average_mass_ = n_dynamic ? mass_sum / n_dynamic : 1.0;
   if (adaptive_kappa()) {
-    kappa_min_ = min_barrier_stiffness(bbox_diagonal_, settings_.d_hat, average_mass_, dt_);
+    kappa_min_ = min_barrier_stiffness(stiffness_length(), settings_.d_hat, average_mass_, dt_);
     kappa_max_ = 100.0 * kappa_min_;
     kappa_ = kappa_min_;
   } else {
@@ -144,23 +148,35 @@ void IpcContactTerm::set_kappa(double kappa) {
 void IpcContactTerm::begin_step(const StepContext& ctx) {
   if (!(ctx.dt > 0.0)) throw std::invalid_argument("begin_step: dt must be > 0");
   dt_ = ctx.dt;
-  friction_eps_ = settings_.eps_v * dt_;
   potential_scale_ = ctx.potential_scale > 0.0 ? ctx.potential_scale : dt_ * dt_;
-  if (adaptive_kappa()) {
-    // κ_min and κ_max follow the step's potential scale c² (BDF2: c = 2h/3).
-    kappa_min_ = min_barrier_stiffness(bbox_diagonal_, settings_.d_hat, average_mass_,
-                                       std::sqrt(potential_scale_));
-    kappa_max_ = 100.0 * kappa_min_;
-    kappa_ = std::clamp(kappa_, kappa_min_, kappa_max_);
-  }
+  // Friction smooths the sliding velocity (x − x_ref)/c below ε_v: a displacement of ε_v c.
+  friction_eps_ = settings_.eps_v * std::sqrt(potential_scale_);
   if (active_.q.size() == ctx.q_t.size() && active_.q == ctx.q_t) {
     // the set of the last update (the previous step's end): still valid
   } else if (last_built_.q.size() == ctx.q_t.size() && last_built_.q == ctx.q_t) {
     active_ = last_built_;
   } else {
+    // A state the last step did not end in (the first step, or set_state): κ is chosen
+    // afresh for it.
     active_ = build_active_set(ctx.q_t, settings_.d_hat);
+    fresh_compressed_ = !active_.stencils.empty();
   }
-  friction_ = lag_friction(active_, barrier_params(kappa_));
+  // κ may only change while no pair is inside d̂ at the step start: the barrier's energy
+  // at q_t is κ Σ b > 0 otherwise, and a stiffer κ would add energy to a compressed pair
+  // out of nothing (a body resting inside d̂ leapt centimetres).
+  compressed_at_start_ = !active_.stencils.empty();
+  if (adaptive_kappa() && !compressed_at_start_) kappa_ = std::clamp(kappa_, kappa_min_, kappa_max_);
+  const bool own_ref = ctx.q_ref && ctx.q_ref->size() == ctx.q_t.size() && *ctx.q_ref != ctx.q_t;
+  friction_ref_ = own_ref ? mesh_.world_vertices(*ctx.q_ref) : active_.x;
+  friction_ = lag_friction(active_, friction_ref_, barrier_params(kappa_));
+}
+
+bool IpcContactTerm::refresh_lagged(const VecX& q) {
+  if (active_.q.size() != q.size() || active_.q != q) update(q);
+  std::vector<FrictionStencil> fresh = lag_friction(active_, friction_ref_, barrier_params(kappa_));
+  if (same_friction(fresh, friction_)) return false;  // the solution stands
+  friction_ = std::move(fresh);
+  return true;
 }
 
 void IpcContactTerm::update(const VecX& q) {
@@ -171,9 +187,14 @@ void IpcContactTerm::update(const VecX& q) {
     active_ = build_active_set(q, settings_.d_hat);
   }
   if (adaptive_kappa()) {
-    // IPC: if the closest gap is tiny and still shrinking, the barrier is too soft.
+    // IPC: if the closest gap is tiny and still shrinking, the barrier is too soft. While
+    // pairs were compressed at the step start, a stiffer κ adds energy to them, so it
+    // only happens as a last resort, once a gap has shrunk below 1e-2 d̂ (a load far above
+    // the one κ was chosen for, e.g. a kinematic grasp on a body resting on the ground).
+    const double eps_scale =
+        compressed_at_start_ ? kCompressedGapFraction * settings_.d_hat / bbox_diagonal_ : 1e-9;
     kappa_ = update_barrier_stiffness(prev_min_gap_, active_.min_gap, kappa_max_, kappa_,
-                                      bbox_diagonal_);
+                                      bbox_diagonal_, eps_scale);
     prev_min_gap_ = active_.min_gap;
   }
 }
@@ -199,12 +220,22 @@ double IpcContactTerm::initialize_kappa(const VecX& q, const VecX& grad_rest) {
       grad_barrier.segment<12>(12 * b).setZero();
       rest.segment<12>(12 * b).setZero();
     }
+  if (compressed_at_start_ && !fresh_compressed_) return kappa_;  // energy-neutral: keep it
   const double h = potential_scale_ > 0.0 ? std::sqrt(potential_scale_) : dt_;
-  const BarrierStiffness s = initial_barrier_stiffness(bbox_diagonal_, settings_.d_hat,
-                                                       average_mass_, h, rest, grad_barrier);
-  kappa_ = s.kappa;
-  kappa_min_ = s.kappa_min;
-  kappa_max_ = s.kappa_max;
+  // The barrier's share of ∇Π is c² κ ∇b: the balance against the rest (IPC) is in
+  // units of c², so it uses this step's c.
+  const double balance = balanced_barrier_stiffness(h, rest, grad_barrier);
+  if (compressed_at_start_) {
+    fresh_compressed_ = false;
+    // Pairs already inside d̂ at a fresh state (bodies loaded resting on each other):
+    // the balance makes that state an equilibrium. κ_min would store far more than the
+    // load's energy in the barrier, released as a jump.
+    if (balance > 0.0) kappa_ = std::min(balance, kappa_max_);
+    // Friction was lagged with the old κ: its normal forces follow the barrier's.
+    friction_ = lag_friction(active_, friction_ref_, barrier_params(kappa_));
+    return kappa_;
+  }
+  kappa_ = balance > 0.0 ? std::clamp(balance, kappa_min_, kappa_max_) : kappa_min_;
   return kappa_;
 }
 

@@ -67,6 +67,14 @@ class IpcContactTerm : public EnergyTerm {
 
   std::string name() const override { return "ipc_contact"; }
   void begin_step(const StepContext& ctx) override;
+  // Friction lagged again at the converged q (normal forces, bases, closest points), still
+  // sliding from the step's reference point: IPC's friction iterations.
+  bool refresh_lagged(const VecX& q) override;
+  // Contact began or ended over the step: some pair is inside d̂ at its end and none was at
+  // its start, or the other way round.
+  bool broke_smoothness() const override {
+    return compressed_at_start_ != !active_.stencils.empty();
+  }
   void update(const VecX& q) override;
   double value(const VecX& q) const override;
   void add_gradient(const VecX& q, double scale, VecX& gradient) const override;
@@ -129,6 +137,12 @@ class IpcContactTerm : public EnergyTerm {
   const contact::ContactMesh& mesh() const { return mesh_; }
   const ContactSettings& settings() const { return settings_; }
   double bbox_diagonal() const { return bbox_diagonal_; }
+  // The length IPC's κ_min is measured against (its "bbox diagonal": κ_min makes the
+  // barrier's curvature at a gap of 1e-8 of it match the mass). IPC takes the scene's size;
+  // here it is 1e3 d̂, so that the reference gap is 1e-5 d̂ whatever the scene's size: with
+  // the scene's size a 10 cm box rested half-way into d̂ and tilted by milliradians under
+  // friction (rocking back when it stopped), and small parts got a far softer barrier.
+  double stiffness_length() const { return 1e3 * settings_.d_hat; }
 
  private:
   contact::BarrierParams barrier_params(double kappa) const;
@@ -156,12 +170,18 @@ class IpcContactTerm : public EnergyTerm {
   mutable contact::ActiveSet last_built_;
   double potential_scale_ = 0.0;  // c² of the current step (h², or (2h/3)² for BDF2)
   std::vector<contact::FrictionStencil> friction_;
-  double friction_eps_ = 0.0;  // ε_v h
+  double friction_eps_ = 0.0;  // ε_v c
+  std::vector<Vec3> friction_ref_;  // vertex positions at the step's reference point
   double dt_ = 0.01;
   double bbox_diagonal_ = 1.0;
   double average_mass_ = 1.0;
   double kappa_ = 0.0, kappa_min_ = 0.0, kappa_max_ = 0.0;
   double prev_min_gap_ = -1.0;  // for the adaptive update; < 0: none yet
+  // Some pair was inside d̂ at this step's start: κ stays as it is (see begin_step).
+  bool compressed_at_start_ = false;
+  // The steps start from a state no step ended in (the first, or after set_state) with
+  // pairs inside d̂: initialize_kappa chooses κ for it once (the balance, see there).
+  bool fresh_compressed_ = false;
 };
 
 }  // namespace abd

@@ -46,6 +46,10 @@ struct StepContext {
   const VecX& q_dot_t;  // velocity at the start of the step
   // The factor Π applies to the potentials: h² for BDF1, (2h/3)² for BDF2.
   double potential_scale = 0.0;
+  // The point the integrator measures this step's velocity from, v = (q − q_ref)/c: q_t for
+  // BDF1, q̂ = (4q_t − q_{t−1})/3 for BDF2 (null: q_t). Dissipative terms (friction) measure
+  // their sliding from it.
+  const VecX* q_ref = nullptr;
 };
 
 class EnergyTerm {
@@ -57,6 +61,14 @@ class EnergyTerm {
   virtual void begin_step(const StepContext& /*ctx*/) {}
   // Whenever Newton accepts a new iterate (e.g. rebuild the active contact set).
   virtual void update(const VecX& /*q*/) {}
+  // After Newton has converged at q: re-evaluate lagged quantities there (friction's normal
+  // forces and bases; IPC's friction iterations). Returns true when the term changed, so
+  // that the solver goes on minimising the changed Π from q.
+  virtual bool refresh_lagged(const VecX& /*q*/) { return false; }
+  // True when the term's force was not smooth over the last step (contact began or ended):
+  // a multistep integrator (BDF2) then restarts from that state with one BDF1 step, since
+  // its extrapolation through the kink adds energy (a BDF2 bounce returned above its drop).
+  virtual bool broke_smoothness() const { return false; }
 
   virtual double value(const VecX& q) const = 0;
   virtual void add_gradient(const VecX& q, double scale, VecX& gradient) const = 0;

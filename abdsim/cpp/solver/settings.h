@@ -26,6 +26,12 @@ struct SolverSettings {
   double tol_affine = 0.1;        // 1/s
   // Contact steps where bodies settle on edges and corners can take tens of iterations.
   int max_newton_iterations = 200;
+  // Friction iterations (IPC): after Newton converges, terms re-evaluate what they lagged
+  // at the step start (friction's normal forces and tangent bases) at the solution, and
+  // Newton goes on; this many times per step. 0: lagged once, at the step start (a body
+  // that starts a step compressed in the barrier then gets a transient normal force as
+  // its friction bound).
+  int friction_iterations = 1;
 
   // Backtracking (Armijo) line search on Π. The first trial step is clipped to
   // ccd_safety * min_terms max_step when a term limits it (IPC's CCD filter).

@@ -25,6 +25,7 @@ World::World(const SceneData& scene, const SolverSettings& settings)
   require(settings.tol_translation > 0.0 && settings.tol_affine > 0.0,
           "Newton tolerances must be positive");
   require(settings.max_newton_iterations >= 1, "max_newton_iterations must be >= 1");
+  require(settings.friction_iterations >= 0, "friction_iterations must be >= 0");
   require(settings.max_line_search_iterations >= 1, "max_line_search_iterations must be >= 1");
   require(settings.ccd_safety > 0.0 && settings.ccd_safety <= 1.0, "ccd_safety must be in (0, 1]");
   require(settings.armijo_c >= 0.0 && settings.armijo_c < 1.0, "armijo_c must be in [0, 1)");
@@ -257,6 +258,7 @@ const StepDiagnostics& World::step() {
   q_.swap(x_);
   q_dot_.swap(q_dot_new_);
   has_history_ = true;
+  for (const auto& t : terms_) has_history_ = has_history_ && !t->broke_smoothness();
   for (const auto& c : constraints_) c->end_step(q_, q_dot_);
   ++step_count_;
   time_ = time_base_ + static_cast<double>(step_count_ - step_base_) * h;

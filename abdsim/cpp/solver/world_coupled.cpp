@@ -346,7 +346,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   const double h = scene_.dt;
   bool split = true;
   for (const auto& t : terms_) split = split && t->splits_by_body();
-  const StepContext ctx{h, q_, q_dot_, c2};
+  const StepContext ctx{h, q_, q_dot_, c2, &q_hat_};
   for (const auto& t : terms_) t->begin_step(ctx);
 
   x_free_.resize(12 * n_);
@@ -411,11 +411,37 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       ++d.coupled_bodies;
   }
 
+  int refreshes_left = settings_.friction_iterations;
   for (int it = 0; it < settings_.max_newton_iterations; ++it) {
     int n_active = 0;
     for (int b = 0; b < n_; ++b) {
       inactive[b] = !(movable_[b] && !frozen_[island(b)]);
       n_active += !inactive[b];
+    }
+    if (n_active == 0 && refreshes_left > 0 && it > 0) {
+      // Converged: lagged quantities (friction's normal forces and bases) are evaluated
+      // again at the solution and Newton goes on from there (IPC's friction iterations).
+      --refreshes_left;
+      bool changed = false;
+      for (const auto& t : terms_) changed = t->refresh_lagged(x_) || changed;
+      if (changed) {
+        std::vector<unsigned char> rubbing(n_, 0);
+        if (contact_) contact_->mark_friction_bodies(rubbing);
+        const double tol = contact_ ? 0.1 * contact_->settings().eps_v : 0.0;
+        for (int b = 0; b < n_; ++b) {
+          if (!rubbing[b] || !movable_[b]) continue;
+          tol_translation_[b] = std::min(tol_translation_[b], tol);
+          tol_affine_[b] = std::min(tol_affine_[b], tol / radius_[b]);
+          frozen_[island(b)] = converged_[island(b)] = 0;
+        }
+        links.clear();
+        rest = body_energies(x_, c2, body_E_, links);
+        for (const BodyLink& l : links) merge_islands(l.a, l.b);
+        for (int b = 0; b < n_; ++b) {
+          inactive[b] = !(movable_[b] && !frozen_[island(b)]);
+          n_active += !inactive[b];
+        }
+      }
     }
     if (n_active == 0) {
       all_done = true;

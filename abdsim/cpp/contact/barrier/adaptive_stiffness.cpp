@@ -29,8 +29,15 @@ BarrierStiffness initial_barrier_stiffness(double bbox_diagonal, double d_hat,
   s.kappa = s.kappa_min;
   const double gb2 = grad_barrier.squaredNorm();
   if (gb2 > 0.0 && grad_rest.size() == grad_barrier.size())
-    s.kappa = std::clamp(-grad_barrier.dot(grad_rest) / (dt * dt * gb2), s.kappa_min, s.kappa_max);
+    s.kappa = std::clamp(balanced_barrier_stiffness(dt, grad_rest, grad_barrier), s.kappa_min,
+                         s.kappa_max);
   return s;
+}
+
+double balanced_barrier_stiffness(double dt, const VecX& grad_rest, const VecX& grad_barrier) {
+  const double gb2 = grad_barrier.squaredNorm();
+  if (!(gb2 > 0.0) || grad_rest.size() != grad_barrier.size()) return 0.0;
+  return -grad_barrier.dot(grad_rest) / (dt * dt * gb2);
 }
 
 double update_barrier_stiffness(double prev_min_gap, double min_gap, double kappa_max,

@@ -33,6 +33,9 @@ BarrierStiffness initial_barrier_stiffness(double bbox_diagonal, double d_hat,
                                            double xi = 0.0,
                                            double scale = kBarrierStiffnessScale);
 
+// The balance alone, unclamped: −(∇B₁ · ∇E)/(h² |∇B₁|²), or 0 when ∇B₁ = 0.
+double balanced_barrier_stiffness(double dt, const VecX& grad_rest, const VecX& grad_barrier);
+
 double update_barrier_stiffness(double prev_min_gap, double min_gap, double kappa_max,
                                 double kappa, double bbox_diagonal, double eps_scale = 1e-9);
 
