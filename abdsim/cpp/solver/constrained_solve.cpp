@@ -15,8 +15,8 @@ namespace abd {
 // a chain of blocks costs. ε = 1e-12 · max diag(H) shifts the constraint rows by ε·λ, which
 // two steps of iterative refinement against the exact K remove (each shrinks the error by
 // ~ε·|J H⁻¹ Jᵀ|).
-void solve_constrained(const BlockSystem& system, const std::vector<ConstraintRow>& rows,
-                       const VecX& rhs, VecX& x) {
+void KktFactorisation::solve(const BlockSystem& system, const std::vector<ConstraintRow>& rows,
+                             const VecX& rhs, VecX& x) {
   std::vector<int> index;
   const Eigen::SparseMatrix<double> H = system.lower_matrix(index);
   const int n_bodies = static_cast<int>(index.size());
@@ -58,7 +58,22 @@ void solve_constrained(const BlockSystem& system, const std::vector<ConstraintRo
     if (index[body] >= 0) b.segment<12>(12 * index[body]) = rhs.segment<12>(12 * body);
   for (Eigen::Index k = 0; k < m; ++k) b[n + k] = -active[k]->value;
 
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt(K_reg);
+  K_reg.makeCompressed();
+  const int nnz = static_cast<int>(K_reg.nonZeros());
+  const int* outer = K_reg.outerIndexPtr();
+  const int* inner = K_reg.innerIndexPtr();
+  const bool same = analysed_ && outer_.size() == static_cast<std::size_t>(K_reg.cols() + 1) &&
+                    inner_.size() == static_cast<std::size_t>(nnz) &&
+                    std::equal(outer_.begin(), outer_.end(), outer) &&
+                    std::equal(inner_.begin(), inner_.end(), inner);
+  if (!same) {
+    ldlt_.analyzePattern(K_reg);
+    outer_.assign(outer, outer + K_reg.cols() + 1);
+    inner_.assign(inner, inner + nnz);
+    analysed_ = true;
+  }
+  ldlt_.factorize(K_reg);
+  auto& ldlt = ldlt_;
   if (ldlt.info() != Eigen::Success)
     throw SolverError("sparse LDLT factorisation of the constrained Newton system failed");
   VecX u = ldlt.solve(b);

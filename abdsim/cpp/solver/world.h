@@ -37,6 +37,7 @@
 #include "contact/ipc_contact_term.h"
 #include "mass/dyadic_mass.h"
 #include "solver/block_system.h"
+#include "solver/constrained_solve.h"
 #include "solver/constraint.h"
 #include "solver/diagnostics.h"
 #include "solver/energy_term.h"
@@ -160,6 +161,7 @@ class World {
   std::shared_ptr<IpcContactTerm> contact_;
   std::vector<std::shared_ptr<Constraint>> constraints_;
   std::vector<unsigned char> jointed_;  // movable bodies under a constraint this step
+  KktFactorisation kkt_newton_, kkt_projection_;  // patterns kept from solve to solve
   bool nonlinear_constraints_ = false;
 
   VecX q_, q_dot_;            // current state

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "solver/constrained_solve.h"
 #include "solver/world.h"
 
 namespace abd {
@@ -65,7 +64,7 @@ void World::project_constraints() {
     for (int b = 0; b < n_; ++b)
       system_.diagonal(b) = fixed[b] ? Mat12::Zero() : dyadic_[b].matrix();
     system_.finalize();
-    solve_constrained(system_, rows, zero, dx);
+    kkt_projection_.solve(system_, rows, zero, dx);
     x_ += dx;
     constraint_rows(x_, rows);
   }

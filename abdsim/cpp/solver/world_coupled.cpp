@@ -501,7 +501,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     if (constrained) {
       // Exact constraints: the KKT system (sparse direct; constrained_solve.h).
       solver_used = "direct";
-      solve_constrained(system_, rows, rhs, dq_);
+      kkt_newton_.solve(system_, rows, rhs, dq_);
     } else if (per_body) {
       solver_used = "block_diagonal";
       const int bad = system_.solve_block_diagonal(rhs, dq_, threads_);
