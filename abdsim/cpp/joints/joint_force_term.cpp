@@ -128,6 +128,7 @@ void JointForceTerm::begin_step(const StepContext& ctx) {
     e.theta_t = theta;
     // Barrier stiffness on the scale of the joint's kinetic term: κ d̂² ~ I (d̂/c)².
     e.kappa = e.inertia / (c_ * c_);
+    e.at_limit_start = e.at_limit = at_limit(e, theta);
   }
   // Actuator force = gain·u + b1·L + b2·L̇ with L = gear θ, L̇ = gear (θ − θ̂)/c (MuJoCo's
   // general actuator with the motor / position / velocity presets), as F0 + F1 θ.
@@ -149,6 +150,22 @@ void JointForceTerm::begin_step(const StepContext& ctx) {
     act_F0_[a] = gain * u - b2 * s.gear * theta_hat / c_;
     act_F1_[a] = s.gear * (b1 + b2 / c_);
   }
+}
+
+bool JointForceTerm::at_limit(const Element& e, double theta) const {
+  const JointPhysics& p = physics_[e.joint];
+  return p.limited && (theta - p.lower < kLimitMargin || p.upper - theta < kLimitMargin);
+}
+
+void JointForceTerm::update(const VecX& q) {
+  for (Element& e : elements_)
+    if (physics_[e.joint].limited) e.at_limit = at_limit(e, theta_of(e, q, nullptr, nullptr));
+}
+
+bool JointForceTerm::broke_smoothness() const {
+  for (const Element& e : elements_)
+    if (e.at_limit != e.at_limit_start) return true;
+  return false;
 }
 
 bool JointForceTerm::energy(const Element& e, double theta, double& E, double& d1,

@@ -49,6 +49,10 @@ class JointForceTerm : public EnergyTerm {
 
   std::string name() const override { return "joints"; }
   void begin_step(const StepContext& ctx) override;
+  // A limit barrier that engaged or let go during the step is a kink in the joint force:
+  // BDF2 restarts there (as at contact changes).
+  void update(const VecX& q) override;
+  bool broke_smoothness() const override;
   double value(const VecX& q) const override;
   void add_gradient(const VecX& q, double scale, VecX& gradient) const override;
   void add_hessian(const VecX& q, double scale, std::vector<BodyBlock>& blocks) const override;
@@ -85,7 +89,9 @@ class JointForceTerm : public EnergyTerm {
     double start_theta = 0.0, start_rate = 0.0;  // at this step's start (a retry repeats it)
     bool has_prev = false, has_start = false;
     double kappa = 0.0;
+    bool at_limit_start = false, at_limit = false;  // a barrier active (d < d̂)
   };
+  bool at_limit(const Element& e, double theta) const;
   double theta_of(const Element& e, const VecX& q, Vec12* gc, Vec12* gp) const;
   bool energy(const Element& e, double theta, double& E, double& d1, double& d2) const;
   double limit_step(const Element& e, const VecX& q, const VecX& dq) const;
