@@ -1,5 +1,6 @@
 """Simulation: Scene (what to simulate, with which settings) and World (the stepper)."""
 
+from abdsim.sim.joints import ActuatorHandle, JointHandle
 from abdsim.sim.scene import GROUND, BodyHandle, ContactTable, Ground, Scene
 from abdsim.sim.settings import SceneSettings
 from abdsim.sim.world import (
@@ -12,9 +13,11 @@ from abdsim.sim.world import (
 
 __all__ = [
     "GROUND",
+    "ActuatorHandle",
     "BodyHandle",
     "ContactTable",
     "Ground",
+    "JointHandle",
     "Scene",
     "SceneSettings",
     "SolverError",
