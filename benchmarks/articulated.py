@@ -6,9 +6,9 @@
 2. A chain of 50 revolute links (boxes 2 × 2 × 10 cm, 1000 kg/m³, hinges about y) released at
    small alternating angles and swinging under gravity.
 Both: dt = 1e-3, 1,000 steps, the whole run inside each engine (abdsim ``World.step(n)``,
-MuJoCo ``mj_step(nstep=n)``, implicitfast: Euler is unstable on the
-Panda's 15 g fingers with kv = 20), built from one Pinocchio model
-(abdsim: ``abdsim.bridges.articulation``; MuJoCo: nested bodies with the same inertials and
+MuJoCo ``mj_step(nstep=n)``, implicitfast: Euler is unstable on the Panda's 15 g fingers
+with kv = 20), built from one Pinocchio model (abdsim:
+``abdsim.bridges.pinocchio_articulation``; MuJoCo: nested bodies with the same inertials and
 joints, no geometry). Reports steps/s of each, their ratio and abdsim's largest joint violation
 (a second, step-by-step run).
 
@@ -26,7 +26,7 @@ import numpy as np
 import pinocchio as pin
 
 import abdsim
-from abdsim.bridges.articulation import articulation_from_pinocchio, joint_axis
+from abdsim.bridges.pinocchio_articulation import articulation_from_pinocchio, joint_axis
 
 DT = 1e-3
 KP, KV = 200.0, 20.0

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import abdsim
-from abdsim.bridges.articulation import articulation_from_pinocchio
+from abdsim.bridges.pinocchio_articulation import articulation_from_pinocchio
 from tests.joints.conftest import aba_rk4, robot_model
 
 
