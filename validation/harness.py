@@ -91,6 +91,11 @@ def validate(
 
     if kind == "urdf":
         return _validate_urdf_inertias(path, out_dir, tol)
+    from abdsim.validation.joint_validation import has_joints_only, validate_joints
+    from abdsim.validation.mujoco_reference import load_model
+
+    if has_joints_only(load_model(path)):  # an articulation: joint trajectories
+        return validate_joints(path, duration, dt, out_dir, tol, integrator, sample_dt)
 
     t_start = time.perf_counter()
     setup = build_abdsim(
