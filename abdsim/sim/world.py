@@ -464,7 +464,8 @@ class World:
     ) -> None:
         """Replace transforms and/or velocities (n_bodies, 4, 4); None keeps the current one.
 
-        BDF2 restarts with a BDF1 step. Raises ValueError for NaN/inf or wrong shapes.
+        BDF2 restarts with a BDF1 step; joints are projected back onto their constraints at the
+        next step (least mass-weighted change). Raises ValueError for NaN/inf or wrong shapes.
         """
         n = self.num_bodies
         q, q_dot = self.q, self.q_dot
@@ -475,6 +476,8 @@ class World:
         if velocities is not None:
             q_dot = transforms_to_q(_as_transforms(velocities, n, "velocities"))
         self._core.set_state(q, q_dot)
+        if self._joints is not None:  # hinge angles restart from the new poses (in (−π, π])
+            self._joints.reset(np.ascontiguousarray(q).reshape(-1))
 
     def sync(self) -> None:
         """Write the state into each geometry's ``transforms`` and ``instances["velocity"]``."""

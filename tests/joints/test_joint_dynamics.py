@@ -168,3 +168,15 @@ def test_pendulum_follows_a_kinematic_base():
     # the link lags behind an accelerating support: it swings back (positive about y)
     # towards tan θ = a/g
     assert 0.05 < world.joint_positions()[0] < 2 * np.arctan(4.0 / 9.81)
+
+
+def test_set_state_off_the_joint_is_projected_back():
+    scene, handles = chain_scene([0.3])
+    world = abdsim.World(scene)
+    T = world.transforms()
+    T[0, :3, 3] += (0.01, 0.0, 0.0)  # the link's top moved 1 cm off the world anchor
+    world.set_state(T)
+    assert world.joint_violation()[0] == pytest.approx(0.01)
+    d = world.step()
+    assert d.joint_violation <= 1e-9
+    assert abs(world.joint_positions()[0]) < 0.05  # the projection turned it a little (1.4e-2)
