@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import ctypes
 import glob
+import importlib.util
 import os
 import sys
 
@@ -26,9 +27,29 @@ def _preload_coal() -> bool:
     return False
 
 
+def _missing_core_message() -> str:
+    """One line saying why there is no ``abdsim._core`` here and what to do about it."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    if not os.path.isdir(os.path.join(here, "cpp")):
+        return f"abdsim's compiled core (_core) is missing from {here}: reinstall abdsim"
+    installed = [
+        os.path.join(entry, "abdsim")
+        for entry in sys.path
+        if entry and glob.glob(os.path.join(entry, "abdsim", "_core*.so"))
+    ]
+    where = f"the installed one is in {installed[0]}; " if installed else ""
+    return (
+        f"this is abdsim's source folder ({here}), which has no compiled core; {where}"
+        "run Python outside the repository folder (or with `python -P`), or install abdsim "
+        "for development with `pip install --no-build-isolation -e .` (see README, Developing)"
+    )
+
+
 try:
     from abdsim import _core
 except ImportError as first_error:  # pragma: no cover - depends on the install layout
+    if importlib.util.find_spec("abdsim._core") is None:
+        raise ImportError(_missing_core_message()) from None
     if not _preload_coal():
         raise ImportError(
             "abdsim's compiled core could not be loaded and coal's shared library "

@@ -149,7 +149,7 @@ def main() -> None:
     header = (
         f"{'N':>5} | {'abdsim steps/s':>14} {'Newton it':>9} {'(max)':>5} {'coupled':>7} "
         f"{'min dist (m)':>12} | {'MuJoCo steps/s':>14} {'max pen. (m)':>12} {'at end':>8} | "
-        f"{'ratio':>6}"
+        f"{'speed':>6}"
     )
     print(header)
     print("-" * len(header))
@@ -164,7 +164,8 @@ def main() -> None:
             flush=True,
         )
     print(
-        "ratio = abdsim / MuJoCo steps/s (> 1: abdsim faster); Newton it = mean per step; "
+        "speed: abdsim runs at N× MuJoCo's speed (> 1 is faster), stepping only; "
+        "Newton it = mean per step; "
         "coupled = bodies in the coupled Newton solve (mean); min dist = lowest vertex above "
         "the ground over every step (> 0: no penetration)"
     )

@@ -95,7 +95,7 @@ def main() -> None:
     print(f"h = {DT} s, boxes {EXTENTS.tolist()} m, {threads} CPU(s); MuJoCo {mujoco.__version__}")
     header = (
         f"{'N':>6} | {'abdsim steps/s':>14} {'body-steps/s':>13} {'(1 thread)':>12} | "
-        f"{'MuJoCo steps/s':>14} {'body-steps/s':>13} | {'ratio':>6} {'(1 thr)':>7} | "
+        f"{'MuJoCo steps/s':>14} {'body-steps/s':>13} | {'speed':>6} {'(1 thr)':>7} | "
         f"{'Newton it':>9} {'|AAᵀ-I|':>8}"
     )
     print(header)
@@ -121,7 +121,8 @@ def main() -> None:
             f"{d.total_body_iterations / n:>9.2f} {orth:>8.1e}"
         )
     print(
-        "ratio = abdsim / MuJoCo body-steps/s (> 1: abdsim faster); Newton it = per body, last step"
+        "speed: abdsim runs at N× MuJoCo's speed (> 1 is faster), stepping only; "
+        "Newton it = per body, last step"
     )
 
 

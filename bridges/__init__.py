@@ -36,6 +36,8 @@ _EXPORTS = {
     "LogData": "log_reader",
     "read_log": "log_reader",
     "log_info": "log_reader",
+    "example_robot": "robots",
+    "example_robots": "robots",
 }
 
 __all__ = [
@@ -58,6 +60,8 @@ __all__ = [
     "run_and_log",
     "step_and_log",
     "close_logs",
+    "example_robot",
+    "example_robots",
 ]
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -74,6 +78,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from abdsim.bridges.log_reader import LogData, log_info, read_log
     from abdsim.bridges.mcap_log import McapLogger, close_logs, run_and_log, step_and_log
     from abdsim.bridges.mjcf import load_mjcf
+    from abdsim.bridges.robots import example_robot, example_robots
     from abdsim.bridges.urdf import load_urdf
 
 

@@ -124,6 +124,8 @@ class LoadResult:
         source_map: source rigid group → body index (URDF: Pinocchio joint id; MJCF: MuJoCo
             body id of the weld group's root; MJCF world geoms are not in it).
         notes: what was skipped or approximated while loading (also issued as warnings).
+        sensors: the source's sensors (``abdsim.sim.sensors.SensorSpec``, MJCF ``<sensor>``),
+            added to :attr:`scene`'s ``sensors``.
     """
 
     source: Path
@@ -138,6 +140,7 @@ class LoadResult:
     q: np.ndarray | None = None
     source_map: dict[int, int] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    sensors: list[Any] = field(default_factory=list)
     _scene: Any = field(default=None, repr=False)
 
     # -- lookup -------------------------------------------------------------------------------

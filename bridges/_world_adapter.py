@@ -95,6 +95,8 @@ def build_scene(result: Any, **settings: Any) -> Any:
                 "z-up ground is supported"
             )
         add_ground(float(ground.height))
+    if getattr(result, "sensors", None) and hasattr(scene, "sensors"):
+        scene.sensors.extend(result.sensors)
     _SOURCES[scene] = result
     return scene
 

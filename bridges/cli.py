@@ -1,11 +1,13 @@
 """``abdsim log ...``: inspect and plot abdsim MCAP logs.
 
 * ``abdsim log info FILE [--json]``: channels, schemas, message counts, time range, bodies.
-* ``abdsim log plot FILE --body NAME [--body NAME ...] --field FIELD [-o out.png]``: one
-  body field over time (``position``, ``orientation`` (quaternion xyzw), ``velocity``
-  (linear, world frame), ``angular_velocity`` (world frame), ``transform`` (the 12 entries of
-  [A p]), ``transform_rate`` (dT/dt)), or ``--diagnostic KEY`` (e.g. ``newton_iterations``,
-  ``energies.total``, ``wall_time``).
+* ``abdsim log plot FILE --body NAME [--body NAME ...] --field FIELD [--namespace NS ...]
+  [-o out.png]``: one body field over time (``position``, ``orientation`` (quaternion
+  xyzw), ``velocity`` (linear, world frame), ``angular_velocity`` (world frame),
+  ``transform`` (the 12 entries of [A p]), ``transform_rate`` (dT/dt)), or ``--diagnostic
+  KEY`` (e.g. ``newton_iterations``, ``energies.total``, ``wall_time``). Repeating
+  ``--namespace`` overlays namespaces (e.g. ``/abdsim`` solid, ``/mujoco`` dashed); every
+  axis carries its unit.
 """
 
 from __future__ import annotations
@@ -14,24 +16,7 @@ import argparse
 import json
 from typing import Any
 
-#: ``--field`` choice -> LogData field (``velocity`` is the linear velocity of the body origin;
-#: ``transform_rate`` the 12 entries of dT/dt).
-_FIELDS = {
-    "position": "position",
-    "orientation": "orientation",
-    "velocity": "linear_velocity",
-    "linear_velocity": "linear_velocity",
-    "angular_velocity": "angular_velocity",
-    "transform": "transform",
-    "transform_rate": "velocity",
-}
-_COMPONENTS = {
-    "position": ("x", "y", "z"),
-    "orientation": ("qx", "qy", "qz", "qw"),
-    "linear_velocity": ("vx", "vy", "vz"),
-    "angular_velocity": ("wx", "wy", "wz"),
-    "transform": ("A00", "A01", "A02", "px", "A10", "A11", "A12", "py", "A20", "A21", "A22", "pz"),
-}
+from abdsim.bridges.log_plot import FIELDS as _FIELDS
 
 
 def add_parser(subparsers: Any) -> Any:
@@ -54,7 +39,13 @@ def add_parser(subparsers: Any) -> Any:
         help="body field (velocity: linear, world frame; transform_rate: dT/dt)",
     )
     plot.add_argument("--diagnostic", help="plot this diagnostics key instead of a body field")
-    plot.add_argument("--namespace", default=None, help="topic namespace, e.g. /abdsim")
+    plot.add_argument(
+        "--namespace",
+        action="append",
+        default=[],
+        help="topic namespace, e.g. /abdsim (repeat to overlay, e.g. --namespace /abdsim "
+        "--namespace /mujoco)",
+    )
     plot.add_argument("-o", "--output", default=None, help="PNG path (default: FILE-BODY.png)")
     plot.set_defaults(func=_plot)
     return log
@@ -70,7 +61,9 @@ def _info(args: argparse.Namespace) -> int:
     start, end = info["start_ns"], info["end_ns"]
     print(f"file:        {info['path']} ({info['size_bytes']} bytes)")
     print(f"chunks:      {info['chunks']} ({', '.join(info['compression']) or 'none'})")
-    if info["truncated"]:
+    if info["corrupted"]:
+        print(f"status:      CORRUPTED ({info['error']}; read up to the chunk before it)")
+    elif info["truncated"]:
         print("status:      TRUNCATED (read up to the last complete chunk)")
     if start is not None:
         print(
@@ -89,42 +82,15 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _plot(args: argparse.Namespace) -> int:
-    import matplotlib
+    from abdsim.bridges.log_plot import plot_log
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from abdsim.bridges.log_reader import read_log
-
-    data = read_log(args.file, namespace=args.namespace)
-    if args.diagnostic is None and not args.body:
-        raise ValueError(f"give --body NAME (bodies: {data.names}) or --diagnostic KEY")
-    fig, ax = plt.subplots(figsize=(8, 4.5), dpi=110)
-    if args.diagnostic is not None:
-        key = args.diagnostic
-        if key not in data.diagnostics:
-            raise KeyError(
-                f"no diagnostic {key!r} in the log; available: {sorted(data.diagnostics)}"
-            )
-        ax.plot(data.diagnostics["time"], data.diagnostics[key], label=key)
-        ax.set_ylabel(key)
-        title, stem = key, key.replace(".", "_")
-    else:
-        field = _FIELDS[args.field]
-        for name in args.body:
-            values = data.field(name, field)
-            labels = _COMPONENTS.get(field) or [f"[{k}]" for k in range(values.shape[1])]
-            for k, label in enumerate(labels):
-                ax.plot(data.times, values[:, k], label=f"{name} {label}")
-        ax.set_ylabel(args.field.replace("_", " "))
-        title, stem = f"{args.field}: {', '.join(args.body)}", "-".join(args.body + [args.field])
-    ax.set_xlabel("time (s)")
-    ax.set_title(f"{data.path.name} {data.namespace} — {title}")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize="small", ncol=2)
-    fig.tight_layout()
-    out = args.output or str(data.path.with_name(f"{data.path.stem}-{stem}.png"))
-    fig.savefig(out)
-    plt.close(fig)
+    out = plot_log(
+        args.file,
+        args.output,
+        bodies=args.body,
+        field=args.field,
+        namespaces=args.namespace or [None],
+        diagnostic=args.diagnostic,
+    )
     print(out)
     return 0

@@ -2,7 +2,10 @@
 
 The reader streams the file record by record (``mcap.stream_reader.StreamReader``), so it
 needs no summary section: a file truncated mid-way yields every message of its complete
-chunks and ``LogData.truncated`` is set (with a warning).
+chunks and ``LogData.truncated`` is set (with a warning). Every chunk's CRC is checked: a
+corrupted chunk (a flipped bit on disk) is treated like the end of a truncated file: the
+messages before it are returned, ``LogData.truncated`` and ``LogData.corrupted`` are set and
+a warning names the chunk, so no corrupted number is ever returned as data.
 """
 
 from __future__ import annotations
@@ -45,6 +48,7 @@ class _Scan:
     truncated: bool
     error: str | None
     chunks: int
+    corrupted: bool
     compression: set[str]
 
 
@@ -66,6 +70,7 @@ def _scan(path: Path, first_only: bool = False) -> _Scan:
     times: list[int | None] = [None, None]
     metadata: dict[str, dict[str, str]] = {}
     truncated, error, chunks, compression = False, None, 0, set()
+    corrupted = False
     kept = (BODY_SCHEMA, DIAGNOSTICS_SCHEMA)
 
     def handle(rec: Any) -> None:
@@ -88,9 +93,17 @@ def _scan(path: Path, first_only: bool = False) -> _Scan:
         try:
             for rec in reader.records:
                 if isinstance(rec, Chunk):
+                    try:
+                        # Decode the whole chunk before using any of it: a chunk whose CRC
+                        # (or decompression) fails contributes nothing.
+                        inner_records = breakup_chunk(rec, validate_crc=True)
+                    except Exception as e:
+                        truncated, corrupted = True, True
+                        error = f"chunk {chunks + 1} is corrupted ({type(e).__name__}: {e})"
+                        break
                     chunks += 1
                     compression.add(rec.compression or "none")
-                    for inner in breakup_chunk(rec, validate_crc=False):
+                    for inner in inner_records:
                         handle(inner)
                 else:
                     handle(rec)
@@ -103,7 +116,16 @@ def _scan(path: Path, first_only: bool = False) -> _Scan:
                 raise LogReadError(f"{path}: no complete MCAP record could be read ({e})") from e
             truncated, error = True, f"{type(e).__name__}: {e}"
     return _Scan(
-        channels, messages, counts, tuple(times), metadata, truncated, error, chunks, compression
+        channels=channels,
+        messages=messages,
+        counts=counts,
+        time_range=tuple(times),
+        metadata=metadata,
+        truncated=truncated,
+        error=error,
+        chunks=chunks,
+        corrupted=corrupted,
+        compression=compression,
     )
 
 
@@ -122,7 +144,10 @@ class LogData:
         diagnostics: numeric diagnostics fields as arrays over the diagnostics messages
             (``time`` and ``step`` included; nested dicts flattened as ``energies.kinetic``;
             missing values are NaN).
-        truncated: the file ended inside a record (a killed run); what came before was read.
+        truncated: the file ended inside a record (a killed run), or a corrupted chunk
+            stopped the reading; what came before was read.
+        corrupted: a chunk failed its CRC check (or did not decompress); the data stop
+            before it.
     """
 
     path: Path
@@ -138,6 +163,7 @@ class LogData:
     angular_velocities: np.ndarray
     diagnostics: dict[str, np.ndarray] = field(default_factory=dict)
     truncated: bool = False
+    corrupted: bool = False
 
     def index(self, name: str) -> int:
         """Body index of ``name``."""
@@ -165,7 +191,8 @@ class LogData:
         span = f"{self.times[0]:g}..{self.times[-1]:g} s" if len(self.times) else "empty"
         return (
             f"<LogData {self.path.name} {self.namespace}: {len(self.names)} bodies, "
-            f"{len(self.times)} states ({span}){' TRUNCATED' if self.truncated else ''}>"
+            f"{len(self.times)} states ({span}){' TRUNCATED' if self.truncated else ''}"
+            f"{' CORRUPTED' if self.corrupted else ''}>"
         )
 
 
@@ -199,7 +226,12 @@ def read_log(path: str | os.PathLike, namespace: str | None = None) -> LogData:
     p = Path(path).expanduser()
     scan = _scan(p)
     ns = _pick_namespace(scan, namespace, p)
-    if scan.truncated:
+    if scan.corrupted:
+        warnings.warn(
+            f"{p}: {scan.error}; read the {scan.chunks} chunks before it, nothing after",
+            stacklevel=2,
+        )
+    elif scan.truncated:
         warnings.warn(
             f"{p} is truncated ({scan.error}); read every complete chunk before the cut",
             stacklevel=2,
@@ -238,6 +270,7 @@ def read_log(path: str | os.PathLike, namespace: str | None = None) -> LogData:
         angular_velocities=stack("angular_velocity", 3) if T and n else np.zeros((T, n, 3)),
         diagnostics=_diagnostics_arrays(diags),
         truncated=scan.truncated,
+        corrupted=scan.corrupted,
     )
 
 
@@ -295,4 +328,6 @@ def log_info(path: str | os.PathLike) -> dict[str, Any]:
         "bodies": bodies,
         "metadata": scan.metadata,
         "truncated": scan.truncated,
+        "corrupted": scan.corrupted,
+        "error": scan.error,
     }

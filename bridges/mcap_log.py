@@ -3,31 +3,29 @@
 Per namespace ``NS`` (default ``/abdsim``; e.g. ``/mujoco`` for a reference run in the same
 file) the log has four channels:
 
-============================  ==========================  =========  ===========================
-topic                         schema                      encoding   content
-============================  ==========================  =========  ===========================
-``NS/scene``                  ``foxglove.SceneUpdate``    protobuf   once: every body's surface
-                                                                     (triangle list, frame-locked)
-``NS/tf``                     ``foxglove.FrameTransforms`` protobuf  per step: ``world`` → each
-                                                                     body frame ``ns/NAME``
-``NS/bodies``                 ``abdsim.BodyStates``       json       per step: exact 3x4
-                                                                     transform and dT/dt, position,
-                                                                     quaternion, twist per body
-``NS/diagnostics``            ``abdsim.StepDiagnostics``  json       per step: solver diagnostics
-``NS/joints``                 ``abdsim.JointStates``      json       per step, for a World with
-                                                                     joints: each joint's name,
-                                                                     kind, position and velocity
-============================  ==========================  =========  ===========================
+* ``NS/scene`` (``foxglove.SceneUpdate``, protobuf), once: every body's surface (triangle
+  list, frame-locked);
+* ``NS/tf`` (``foxglove.FrameTransforms``, protobuf), per step: ``world`` → each body frame
+  ``ns/NAME``;
+* ``NS/bodies`` (``abdsim.BodyStates``, json), per step: exact 3x4 transform and dT/dt,
+  position, quaternion, twist per body;
+* ``NS/diagnostics`` (``abdsim.StepDiagnostics``, json), per step: solver diagnostics;
+* ``NS/joints`` (``abdsim.JointStates``, json), per step, for a World with joints: each
+  joint's name, kind, position and velocity.
 
 Foxglove's 3D panel shows the bodies from ``scene`` + ``tf``; its Plot panel can plot e.g.
 ``/abdsim/bodies.bodies[:]{name=="box"}.position[2]``. ``tf`` carries the rotation nearest to
 each body's affine ``A`` (polar decomposition); ``bodies`` carries ``A`` itself, so
 :func:`abdsim.bridges.read_log` returns exactly what was logged.
 
-The file is written through ``foxglove-sdk``'s MCAP writer, chunked and compressed (zstd by
-default). Writes go straight to the operating system, so a run that is killed mid-way leaves
-a file whose every complete chunk can still be read (``read_log`` does so, warning that the
-file is truncated). Log times are simulated time in nanoseconds (plus ``time_offset_ns``).
+The file is chunked and compressed (zstd by default) by
+:class:`~abdsim.bridges.mcap_writer.CheckpointWriter` (messages encoded by ``foxglove-sdk``).
+Whenever control returns to the caller of ``world.step(n, log=path)`` / :func:`step_and_log`
+the file is a complete MCAP file (summary and footer included) that any MCAP reader opens; a
+later call continues it. Writes go straight to the operating system, so a run that is killed
+mid-way leaves a file whose every complete chunk can still be read (``read_log`` does so,
+warning that the file is truncated). Log times are simulated time in nanoseconds (plus
+``time_offset_ns``).
 """
 
 from __future__ import annotations
@@ -43,6 +41,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from abdsim.sim.pose import angular_velocities, nearest_rotations, quaternions_wxyz
 
 #: Schema of ``NS/bodies``.
 BODY_STATES_SCHEMA: dict[str, Any] = {
@@ -215,10 +215,10 @@ class McapLogger:
         metadata: dict[str, str] | None = None,
     ) -> None:
         import foxglove
-        from foxglove.mcap import MCAPCompression, MCAPWriteOptions
 
-        codecs = {"zstd": MCAPCompression.Zstd, "lz4": MCAPCompression.Lz4, None: None}
-        if compression not in codecs:
+        from abdsim.bridges.mcap_writer import CheckpointWriter
+
+        if compression not in ("zstd", "lz4", None):
             raise ValueError(f"compression must be 'zstd', 'lz4' or None, got {compression!r}")
         if int(chunk_size) <= 0:
             raise ValueError(f"chunk_size must be positive, got {chunk_size}")
@@ -232,15 +232,15 @@ class McapLogger:
         self._namespaces: dict[str, _Namespace] = {}
         self._steps: dict[str, int] = {}
         self._fox = foxglove
-        self._context = foxglove.Context()
+        self._schema_ids: dict[str, int] = {}
         # Unbuffered: every chunk the writer finishes is in the OS's hands at once.
         self._file = open(self.path, "wb", buffering=0)  # noqa: SIM115 - closed in close()
-        options = MCAPWriteOptions(
-            compression=codecs[compression], chunk_size=int(chunk_size), profile=""
-        )
         try:
-            self._writer = foxglove.open_mcap(
-                self._file, context=self._context, writer_options=options
+            self._writer = CheckpointWriter(
+                self._file,
+                compression=compression,
+                chunk_size=int(chunk_size),
+                library=f"abdsim {_abdsim_version()}",
             )
         except Exception:
             self._file.close()
@@ -248,7 +248,7 @@ class McapLogger:
         self._closed = False
         info = {"writer": "abdsim", "version": _abdsim_version()}
         info.update({str(k): str(v) for k, v in (metadata or {}).items()})
-        self._writer.write_metadata("abdsim", info)
+        self._writer.add_metadata("abdsim", info)
         if source is not None:
             from abdsim.bridges import _world_adapter as adapter
 
@@ -293,30 +293,41 @@ class McapLogger:
         entry = _Namespace(ns, unique, frames, {})
         self._namespaces[ns] = entry
         self._steps[ns] = 0
-        self._writer.write_metadata(f"abdsim{ns}", {"namespace": ns, "bodies": json.dumps(unique)})
+        self._writer.add_metadata(f"abdsim{ns}", {"namespace": ns, "bodies": json.dumps(unique)})
         if meshes is not None:
             if len(meshes) != len(unique):
                 raise ValueError(f"got {len(meshes)} meshes for {len(unique)} bodies")
             self._log_scene(entry, meshes, kinds, time)
         return frames
 
-    def _channel(self, entry: _Namespace, kind: str) -> Any:
+    def _channel(self, entry: _Namespace, kind: str, json_schema: dict | None = None) -> int:
+        """The MCAP channel id of ``NS/kind`` (registered with its schema on first use):
+        Foxglove protobuf for ``tf`` and ``*scene``/``*arrows`` (SceneUpdate), else JSON with
+        ``json_schema`` (default: body states or diagnostics by kind)."""
         ch = entry.channels.get(kind)
         if ch is not None:
             return ch
-        fox, topic = self._fox, f"{entry.name}/{kind}"
-        if kind == "tf":
-            ch = fox.channels.FrameTransformsChannel(topic, context=self._context)
-        elif kind == "scene":
-            ch = fox.channels.SceneUpdateChannel(topic, context=self._context)
-        elif kind == "bodies":
-            ch = fox.Channel(topic, schema=BODY_STATES_SCHEMA, context=self._context)
-        elif kind == "joints":
-            ch = fox.Channel(topic, schema=JOINT_STATES_SCHEMA, context=self._context)
+        fm = self._fox.messages
+        if kind in ("tf", "scene") or kind.endswith("arrows"):
+            proto = fm.FrameTransforms if kind == "tf" else fm.SceneUpdate
+            schema = proto.get_schema()
+            name, encoding, data = schema.name, schema.encoding, schema.data
+            msg_encoding = "protobuf"
         else:
-            ch = fox.Channel(topic, schema=DIAGNOSTICS_SCHEMA, context=self._context)
+            if json_schema is None:
+                json_schema = BODY_STATES_SCHEMA if kind == "bodies" else DIAGNOSTICS_SCHEMA
+            name, encoding, msg_encoding = json_schema["title"], "jsonschema", "json"
+            data = json.dumps(json_schema).encode("utf-8")
+        if name not in self._schema_ids:
+            self._schema_ids[name] = self._writer.add_schema(name, encoding, bytes(data))
+        ch = self._writer.add_channel(f"{entry.name}/{kind}", msg_encoding, self._schema_ids[name])
         entry.channels[kind] = ch
         return ch
+
+    def _write(
+        self, entry: _Namespace, kind: str, data: bytes, t_ns: int, json_schema: dict | None = None
+    ) -> None:
+        self._writer.add_message(self._channel(entry, kind, json_schema), t_ns, data)
 
     def _namespace(self, namespace: str | None, n: int | None = None) -> _Namespace:
         ns = _normalise_namespace(namespace or self.default_namespace)
@@ -385,7 +396,7 @@ class McapLogger:
             )
             for frame, p, r in zip(entry.frames, pos, q, strict=True)
         ]
-        self._channel(entry, "tf").log(fm.FrameTransforms(transforms=tfs), log_time=t_ns)
+        self._write(entry, "tf", fm.FrameTransforms(transforms=tfs).encode(), t_ns)
 
         rows_T, rows_V = T[:, :3, :].reshape(n, 12).tolist(), V[:, :3, :].reshape(n, 12).tolist()
         lin, ang = V[:, :3, 3].tolist(), omega.tolist()
@@ -403,7 +414,7 @@ class McapLogger:
             for i in range(n)
         ]
         msg = {"timestamp": stamp, "step": int(step), "time": float(time), "bodies": bodies}
-        self._channel(entry, "bodies").log(_dumps(msg), log_time=t_ns)
+        self._write(entry, "bodies", _dumps(msg), t_ns)
 
     def log_diagnostics(
         self,
@@ -425,7 +436,7 @@ class McapLogger:
         if step is not None:
             msg.setdefault("step", int(step))
         msg.setdefault("step", max(self._steps[entry.name] - 1, 0))
-        self._channel(entry, "diagnostics").log(_dumps(msg), log_time=t_ns)
+        self._write(entry, "diagnostics", _dumps(msg), t_ns)
 
     def log_joints(
         self,
@@ -441,7 +452,7 @@ class McapLogger:
         t_ns = self._time_ns(time)
         msg = {"timestamp": _timestamp(t_ns), "joints": to_jsonable(list(joints))}
         msg["step"] = int(step) if step is not None else max(self._steps[entry.name] - 1, 0)
-        self._channel(entry, "joints").log(_dumps(msg), log_time=t_ns)
+        self._write(entry, "joints", _dumps(msg), t_ns, JOINT_STATES_SCHEMA)
 
     def log_world(self, world: Any, *, namespace: str | None = None) -> None:
         """Log a World's current time, transforms, velocities and last step's diagnostics.
@@ -476,6 +487,10 @@ class McapLogger:
                 )
                 iq, iv = iq + j.nq, iv + j.nv
             self.log_joints(t, states, step=step, namespace=namespace)
+        # Contact forces (NS/contacts, NS/contact_arrows) of Worlds with contact.
+        from abdsim.bridges.contact_log import log_world_contacts
+
+        log_world_contacts(self, world, t, step=step, namespace=namespace)
         diag = adapter.world_diagnostics(world)
         if diag is None:
             return
@@ -525,7 +540,7 @@ class McapLogger:
                     metadata=[fm.KeyValuePair(key="kind", value=str(kind))],
                 )
             )
-        self._channel(entry, "scene").log(fm.SceneUpdate(entities=entities), log_time=t_ns)
+        self._write(entry, "scene", fm.SceneUpdate(entities=entities).encode(), t_ns)
 
     def _check_open(self) -> None:
         if self._closed:
@@ -541,15 +556,17 @@ class McapLogger:
         self._check_open()
         self._writer.flush()
 
+    def checkpoint(self) -> None:
+        """Make the file a complete MCAP file now (summary included); logging may go on."""
+        self._check_open()
+        self._writer.checkpoint()
+
     def close(self) -> None:
         """Write the summary and close the file (idempotent)."""
         if self._closed:
             return
         self._closed = True
         try:
-            for entry in self._namespaces.values():
-                for ch in entry.channels.values():
-                    ch.close()
             self._writer.close()
         finally:
             self._file.close()
@@ -605,7 +622,8 @@ def step_and_log(
 
     ``log`` is a path or a :class:`McapLogger`. A path opens a logger (logging the current
     state first) that stays attached to this World: later calls with the same path continue
-    the same file; :func:`close_logs` (or interpreter exit) finishes it. ``driver`` sets the
+    the same file. When this returns (or raises) the file is a complete MCAP file;
+    :func:`close_logs` (or interpreter exit) releases it. ``driver`` sets the
     kinematic targets before each step; every ``log_every``-th step (and the last) is logged.
     ``world.step(n, log=...)`` calls this.
     """
@@ -631,6 +649,9 @@ def step_and_log(
     finally:
         if bar is not None:
             bar.close()
+        # Control goes back to the caller (also on an exception): the file must be complete.
+        if not logger._closed:
+            logger.checkpoint()
     return adapter.world_diagnostics(world)
 
 
@@ -678,53 +699,9 @@ def run_and_log(
 # ---------------------------------------------------------------------------------------------
 # Rotations, twists, JSON
 # ---------------------------------------------------------------------------------------------
-def nearest_rotations(A: np.ndarray) -> np.ndarray:
-    """Polar rotation factor R of each 3x3 ``A`` (the rotation nearest to it), (n, 3, 3)."""
-    U, _, Vt = np.linalg.svd(A)
-    d = np.sign(np.linalg.det(U @ Vt))
-    d[d == 0] = 1.0
-    U[:, :, 2] *= d[:, None]
-    return U @ Vt
-
-
 def rotation_to_quat_xyzw(R: np.ndarray) -> np.ndarray:
-    """Unit quaternions [x, y, z, w] (w >= 0) of rotation matrices (n, 3, 3)."""
-    R = np.asarray(R, dtype=np.float64).reshape(-1, 3, 3)
-    m00, m11, m22 = R[:, 0, 0], R[:, 1, 1], R[:, 2, 2]
-    candidates = np.stack(
-        [
-            1 + m00 + m11 + m22,  # w largest
-            1 + m00 - m11 - m22,  # x
-            1 - m00 + m11 - m22,  # y
-            1 - m00 - m11 + m22,  # z
-        ],
-        axis=1,
-    )
-    pick = np.argmax(candidates, axis=1)
-    s = 2.0 * np.sqrt(np.maximum(candidates[np.arange(len(R)), pick], 1e-300))
-    d21, d02, d10 = R[:, 2, 1] - R[:, 1, 2], R[:, 0, 2] - R[:, 2, 0], R[:, 1, 0] - R[:, 0, 1]
-    s01, s02, s12 = R[:, 0, 1] + R[:, 1, 0], R[:, 0, 2] + R[:, 2, 0], R[:, 1, 2] + R[:, 2, 1]
-    rows = {  # [x, y, z, w] * s for each choice of the largest component
-        0: (d21, d02, d10, s * s / 4),
-        1: (s * s / 4, s01, s02, d21),
-        2: (s01, s * s / 4, s12, d02),
-        3: (s02, s12, s * s / 4, d10),
-    }
-    q = np.empty((len(R), 4))
-    for k, cols in rows.items():
-        m = pick == k
-        q[m] = np.stack([c[m] for c in cols], axis=1) / s[m, None]
-    q /= np.linalg.norm(q, axis=1, keepdims=True)
-    q[q[:, 3] < 0] *= -1
-    return q
-
-
-def angular_velocities(A: np.ndarray, A_dot: np.ndarray) -> np.ndarray:
-    """World-frame ω of each body from Ȧ = [ω]× A: the skew part of Ȧ A⁻¹, (n, 3)."""
-    W = A_dot @ np.linalg.inv(A)
-    return 0.5 * np.stack(
-        [W[:, 2, 1] - W[:, 1, 2], W[:, 0, 2] - W[:, 2, 0], W[:, 1, 0] - W[:, 0, 1]], axis=1
-    )
+    """Unit quaternions [x, y, z, w] (w >= 0, Foxglove's order) of rotation matrices (n, 3, 3)."""
+    return quaternions_wxyz(R)[:, [1, 2, 3, 0]]
 
 
 def to_jsonable(obj: Any, _depth: int = 0) -> Any:

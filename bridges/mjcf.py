@@ -99,6 +99,10 @@ def load_mjcf(
 
     loader = _MjcfLoader(mujoco, model, data, kappa, constitution, open_mesh, notes=[])
     bodies, grounds, source_map, joints = loader.run(include_visual, skip_unsupported)
+    # <sensor> elements (bridges/mjcf_sensors.py): MuJoCo's layout, unsupported ones in notes.
+    from abdsim.bridges.mjcf_sensors import read_sensors
+
+    sensors = read_sensors(loader, source_map)
     for note in loader.notes:
         warnings.warn(note, stacklevel=2)
     if not bodies and not grounds:
@@ -115,6 +119,7 @@ def load_mjcf(
         q=np.array(data.qpos),
         source_map=source_map,
         notes=loader.notes,
+        sensors=sensors,
     )
 
 

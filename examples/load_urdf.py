@@ -1,6 +1,6 @@
 """Load a URDF robot as affine bodies, drive it along a joint trajectory, log it for Foxglove.
 
-Run: python examples/load_urdf.py [URDF] [-o panda.mcap]
+Run: python examples/load_urdf.py [URDF] [-o abdsim_out/robot.mcap]
 
 Without an argument it loads the Franka Panda of example-robot-data. Every body's mass
 properties are compared with Pinocchio's, then the kinematic links follow a smooth joint
@@ -11,31 +11,22 @@ trajectory through Pinocchio's forward kinematics and the poses are written to a
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 import numpy as np
 
 import abdsim
-from abdsim.bridges import McapLogger, RobotDriver, load_urdf
-
-
-def default_urdf() -> Path:
-    for entry in sys.path:
-        p = Path(entry or ".") / "cmeel.prefix/share/example-robot-data/robots"
-        if p.is_dir():
-            return p / "panda_description" / "urdf" / "panda.urdf"
-    raise SystemExit("example-robot-data is not installed; pass a URDF path")
+from abdsim.bridges import McapLogger, RobotDriver, example_robot, load_urdf
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("urdf", nargs="?", type=Path, default=None)
-    parser.add_argument("-o", "--output", default="robot.mcap")
+    parser.add_argument("-o", "--output", default="abdsim_out/robot.mcap")
     parser.add_argument("--duration", type=float, default=4.0)
     args = parser.parse_args()
 
-    result = load_urdf(args.urdf or default_urdf())
+    result = load_urdf(args.urdf or example_robot("panda"))
     model = result.model
     print(result)
     print(f"{'body':<20} {'kind':<10} {'mass [kg]':>10} {'|Δ inertia|':>12}  links")
@@ -64,6 +55,7 @@ def main() -> None:
     )
     driver = RobotDriver(result, samples, times=times)
 
+    Path(args.output).parent.mkdir(parents=True, exist_ok=True)
     with McapLogger(args.output, result) as log:
         for t in times:
             poses = result.transforms()

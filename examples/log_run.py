@@ -1,6 +1,6 @@
 """Simulate an MJCF scene with abdsim and log the run to MCAP (opens in Foxglove).
 
-Run: python examples/log_run.py [SCENE.xml] [-o run.mcap] [--steps 200]
+Run: python examples/log_run.py [SCENE.xml] [-o abdsim_out/run.mcap] [--steps 200]
 
 Loads the scene with abdsim.bridges.load_mjcf (exact MuJoCo mass properties, keyframe poses
 and velocities), builds a World, steps it while logging every body's pose and twist plus the
@@ -14,7 +14,6 @@ from pathlib import Path
 
 import numpy as np
 
-import abdsim
 from abdsim.bridges import load_mjcf, read_log, run_and_log
 
 SCENE = Path(__file__).parent / "scenes" / "free_bodies.xml"
@@ -23,17 +22,14 @@ SCENE = Path(__file__).parent / "scenes" / "free_bodies.xml"
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("scene", nargs="?", type=Path, default=SCENE)
-    parser.add_argument("-o", "--output", default="run.mcap")
+    parser.add_argument("-o", "--output", default="abdsim_out/run.mcap")
     parser.add_argument("--steps", type=int, default=100)
     args = parser.parse_args()
 
     result = load_mjcf(args.scene)
     print(result)
-    if not hasattr(abdsim, "World"):
-        raise SystemExit("this abdsim has no World yet: nothing to simulate")
-    if result.grounds and not hasattr(result.scene, "add_ground"):
-        print("note: this abdsim has no contact yet; the ground plane is not simulated")
     world = result.make_world()
+    Path(args.output).parent.mkdir(parents=True, exist_ok=True)
     run_and_log(world, args.steps, args.output)
 
     log = read_log(args.output)

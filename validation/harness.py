@@ -17,6 +17,7 @@ from abdsim.validation.compare import (
 )
 from abdsim.validation.report import write_metrics, write_report
 from abdsim.validation.scenes import default_scene, scene_kind
+from abdsim.validation.speed import speed_vs_mujoco
 from abdsim.validation.tolerances import Tolerances
 from abdsim.validation.trajectory import Trajectory
 
@@ -43,7 +44,7 @@ def validate(
     scene: str | Path | None = None,
     duration: float = 2.0,
     dt: float = 1e-3,
-    out: str | Path = "abdsim_validation",
+    out: str | Path = "abdsim_out/validation",
     tolerances: str | Path | Tolerances | None = None,
     integrator: str = "bdf2",
     sample_dt: float = 0.01,
@@ -101,17 +102,24 @@ def validate(
     setup = build_abdsim(
         path, kind, dt=dt, integrator=integrator, perturb_inertia=perturb_inertia or {}
     )
+    end_to_end: dict[str, float] = {}  # wall time of each whole run, sampling and logging in
+    t0 = time.perf_counter()
     mj = run_mujoco(setup.mujoco_path, duration, dt, sample_dt)
+    end_to_end["mujoco"] = time.perf_counter() - t0
     if mj.names != setup.names:
         raise ValueError(f"body mismatch between abdsim {setup.names} and MuJoCo {mj.names}")
     t_contact = mj.first_contact_time()
     # Compare free flight up to shortly before MuJoCo's first contact (its contacts start at
     # penetration; abdsim's barrier acts within d̂ before touching).
     t_free = min(duration, t_contact - 0.02) if np.isfinite(t_contact) else duration
+    t0 = time.perf_counter()
     pin = run_pinocchio_free_flight(setup.mujoco_path, max(t_free, sample_dt), dt, sample_dt)
+    end_to_end["pinocchio"] = time.perf_counter() - t0
     logger = setup.make_logger(out_dir / "run.mcap") if mcap else None
     try:
+        t0 = time.perf_counter()
         abd = setup.run(duration, sample_dt, progress=progress, logger=logger)
+        end_to_end["abdsim"] = time.perf_counter() - t0
         if logger is not None:
             setup.log_reference(logger, mj, "/mujoco")
     finally:
@@ -148,19 +156,39 @@ def validate(
         [abd, mj, pin], max(t_free, 0.0), out_dir / "conservation.png"
     ).name
     if contact:
-        plot_files["contact"] = plots.plot_contact(abd, mj, out_dir / "contact.png").name
+        plot_files["contact"] = plots.plot_contact(
+            abd, mj, out_dir / "contact.png", d_hat=contact.get("d_hat")
+        ).name
+    geoms = [setup.loaded.bodies[i].geometry for i in setup.body_ids]
+    plot_files["snapshots"] = plots.plot_snapshots(
+        abd,
+        mj,
+        [(g.positions, g.triangles) for g in geoms],
+        np.array([c for _, c, _ in setup.rigid_bodies()]),
+        out_dir / "snapshots.png",
+    ).name
 
     newton = abd.extra.get("newton_iterations")
+    # Speeds follow abdsim.validation.speed: N× MuJoCo's speed, > 1 is faster; "stepping"
+    # times step() alone, "end to end" the whole run (sampling, and abdsim's MCAP log).
+    sims = {
+        tr.simulator: {
+            "steps": tr.steps,
+            "wall_time": tr.wall_time,
+            "steps_per_s": tr.steps / max(tr.wall_time, 1e-12),
+            "end_to_end_wall_time": end_to_end[tr.simulator],
+            "end_to_end_steps_per_s": tr.steps / max(end_to_end[tr.simulator], 1e-12),
+        }
+        for tr in (abd, mj, pin)
+    }
     timing = {
-        "simulators": {
-            tr.simulator: {
-                "steps": tr.steps,
-                "wall_time": tr.wall_time,
-                "steps_per_s": tr.steps / max(tr.wall_time, 1e-12),
-            }
-            for tr in (abd, mj, pin)
-        },
-        "abdsim_over_mujoco": abd.wall_time / max(mj.wall_time, 1e-12),
+        "simulators": sims,
+        "speed_vs_mujoco": speed_vs_mujoco(
+            sims["abdsim"]["steps_per_s"], sims["mujoco"]["steps_per_s"]
+        ),
+        "speed_vs_mujoco_end_to_end": speed_vs_mujoco(
+            sims["abdsim"]["end_to_end_steps_per_s"], sims["mujoco"]["end_to_end_steps_per_s"]
+        ),
         "mean_newton_iterations": float(np.mean(newton))
         if newton is not None and len(newton)
         else None,

@@ -6,6 +6,7 @@ import json
 from pathlib import Path
 
 from abdsim.validation.compare import Check
+from abdsim.validation.speed import describe
 
 METRICS_SCHEMA = {
     "$schema": "https://json-schema.org/draft/2020-12/schema",
@@ -90,6 +91,11 @@ def write_report(path: Path, metrics: dict, checks: list[Check], plots: dict[str
             f"reference (RK4 on SE(3)), {s['duration']:g} s simulated."
         )
     lines = [f"# abdsim validation — `{Path(metrics['scene']).name}`", "", verdict, ""]
+    if plots.get("snapshots"):
+        lines += [
+            f"![abdsim (top) and MuJoCo (bottom) at a few times]({plots['snapshots']})",
+            "",
+        ]
     for note in metrics.get("notes", []):
         lines += [f"> Note: {note}", ""]
     if failed:
@@ -189,19 +195,25 @@ def write_report(path: Path, metrics: dict, checks: list[Check], plots: dict[str
     t = metrics["timing"]
     if t:
         lines += [
-            "## Wall-clock time",
+            "## Speed",
             "",
-            "| simulator | steps | wall [s] | steps/s |",
-            "|---|---|---|---|",
+            f"- {describe(t['speed_vs_mujoco'], 'stepping only (time inside step())')}.",
+            f"- {describe(t['speed_vs_mujoco_end_to_end'], 'end to end')} (the whole run: "
+            "stepping, sampling the state and, for abdsim, writing the MCAP log).",
+            "",
+            "| simulator | steps | stepping [s] | stepping [steps/s] | end to end [s] | "
+            "end to end [steps/s] |",
+            "|---|---|---|---|---|---|",
         ]
         for sim, tt in t["simulators"].items():
             lines.append(
-                f"| {sim} | {tt['steps']} | {tt['wall_time']:.3f} | {tt['steps_per_s']:.0f} |"
+                f"| {sim} | {tt['steps']} | {tt['wall_time']:.3f} | {tt['steps_per_s']:.0f} | "
+                f"{tt['end_to_end_wall_time']:.3f} | {tt['end_to_end_steps_per_s']:.0f} |"
             )
         lines += [
             "",
-            f"abdsim / MuJoCo time ratio: {t['abdsim_over_mujoco']:.2f}× "
-            f"(mean Newton iterations per step: {_fmt(t.get('mean_newton_iterations'))}).",
+            f"Mean Newton iterations per abdsim step: {_fmt(t.get('mean_newton_iterations'))}. "
+            "Pinocchio runs the free-flight phase only.",
             "",
         ]
     lines += [

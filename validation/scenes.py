@@ -5,6 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 SCENE_DIR = Path(__file__).resolve().parent / "scenes"
+if not SCENE_DIR.is_dir():  # an editable install runs this file from the repository
+    SCENE_DIR = Path(__file__).resolve().parents[1] / "examples" / "scenes"
 DEFAULT_SCENE = "tossed_bodies.xml"
 
 

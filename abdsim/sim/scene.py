@@ -16,6 +16,7 @@ from abdsim.sim.joints import (
     make_actuator,
     make_joint,
 )
+from abdsim.sim.sensors import SensorSet
 from abdsim.sim.settings import SceneSettings
 
 GROUND = "ground"  #: the ground's name in ``Scene.contact_table``
@@ -150,6 +151,8 @@ class Scene:
         self.contact_table = ContactTable()
         self._joints: list[JointHandle] = []
         self._actuators: list[ActuatorHandle] = []
+        #: sensors every World of this scene starts with (``sensors.add(...)``, MJCF sensors)
+        self.sensors = SensorSet()
 
     @property
     def dt(self) -> float:

@@ -11,7 +11,11 @@ import numpy as np
 
 from abdsim._native import _core
 from abdsim.constitution.rigid_body import _dyadic_of
+from abdsim.sim import pose as pose_math
+from abdsim.sim.contact_forces import ContactForces, rest_centers_of_mass, world_centers
 from abdsim.sim.scene import GROUND, BodyHandle, Scene
+from abdsim.sim.sensor_readings import BodyState, sensor_values
+from abdsim.sim.sensors import SensorSet, VelocityHistory
 
 SolverError = _core.SolverError
 
@@ -30,6 +34,8 @@ class StepDiagnostics:
             terms), or the most any body took alone (bodies solved on their own).
         total_body_iterations: the iterations each body took part in, summed over bodies.
         converged: always True for a returned step (a failed step raises SolverError).
+        integrator_order: 1 for a BDF1 step (BDF2 takes one at its start, after
+            ``set_state`` and where contact begins or ends), 2 for a BDF2 step.
         step_translation: last Newton step, max |Δp| / dt (m/s).
         step_affine: last Newton step, max |ΔA| / dt (1/s).
         residual: max |∇Π| at the start of the last Newton iteration.
@@ -83,6 +89,7 @@ class StepDiagnostics:
     driven_bodies: int = 0
     kinematic_lag: float = 0.0
     kinematic_lag_body: int = -1
+    integrator_order: int = 1
     joint_violation: float = 0.0
     joint_violation_angle: float = 0.0
 
@@ -121,6 +128,7 @@ class StepDiagnostics:
             driven_bodies=d.driven_bodies,
             kinematic_lag=d.kinematic_lag,
             kinematic_lag_body=d.kinematic_lag_body,
+            integrator_order=d.integrator_order,
             joint_violation=d.joint_violation,
             joint_violation_angle=d.joint_violation_angle,
         )
@@ -209,6 +217,10 @@ class World:
                     self._core.set_kinematic_target(b, q0[b])
         self._joints = self._build_joints(data, scene)
         self._contact = None
+        self._rest_centers: np.ndarray | None = None  # for contact_wrenches, on first use
+        self._sensors = SensorSet(scene.sensors.specs)
+        self._sensors.check_bodies(self.num_bodies)
+        self._velocities = VelocityHistory()  # for the sensors' accelerations
         if scene.settings.contact and self._needs_contact(data, scene):
             try:
                 self._contact = self._core.enable_contact(self._contact_settings(scene))
@@ -391,12 +403,16 @@ class World:
             bar = tqdm(total=n, unit="step")
         try:
             # Without schedules the steps run in C++ in chunks (chunks only feed the bar).
-            chunk = 1 if self._schedules else (max(1, n // 100) if bar else n)
+            # Acceleration sensors need the velocity before every step: one step at a time.
+            per_step = bool(self._schedules) or self._sensors.needs_acceleration
+            chunk = 1 if per_step else (max(1, n // 100) if bar else n)
             done = 0
             while done < n:
                 k = min(chunk, n - done)
                 if self._schedules:
                     self._apply_schedules()
+                if self._sensors.needs_acceleration:
+                    self._velocities.before_step(self._core.q_dot)
                 self._core.step(k)
                 done += k
                 if bar is not None:
@@ -450,8 +466,30 @@ class World:
         return q_to_transforms(self._core.q)
 
     def velocities(self) -> np.ndarray:
-        """Time derivatives of the transforms dT/dt, (n_bodies, 4, 4) (bottom row zero)."""
+        """Time derivatives of the transforms dT/dt, (n_bodies, 4, 4) (bottom row zero).
+
+        For velocities in robotics' terms (v, ω in the world frame) see :meth:`twist`."""
         return q_to_transforms(self._core.q_dot, homogeneous=False)
+
+    def pose(self, body: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Position and quaternion ``[w, x, y, z]`` (MuJoCo's order, w >= 0) of the rotation
+        nearest to each body's ``A``: ((n_bodies, 3), (n_bodies, 4)), or one body's
+        ((3,), (4,)). See :mod:`abdsim.sim.pose`."""
+        p, q = pose_math.poses(self.transforms())
+        return (p, q) if body is None else (p[self._body(body)], q[self._body(body)])
+
+    def twist(self, body: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Linear velocity of each body's origin and angular velocity ω, both in the world
+        frame: ((n_bodies, 3), (n_bodies, 3)), or one body's ((3,), (3,)). MuJoCo's free-joint
+        ``qvel`` holds the same ``v`` and ``Rᵀ ω``. See :mod:`abdsim.sim.pose`."""
+        v, w = pose_math.twists(self.transforms(), self.velocities())
+        return (v, w) if body is None else (v[self._body(body)], w[self._body(body)])
+
+    def _body(self, body: int) -> int:
+        n = self.num_bodies
+        if isinstance(body, bool) or not isinstance(body, (int, np.integer)) or not 0 <= body < n:
+            raise IndexError(f"body must be an integer index in [0, {n}), got {body!r}")
+        return int(body)
 
     def vertices(self, handle: BodyHandle) -> np.ndarray:
         """World positions x = A x̄ + p of a geometry's vertices, (n_instances, nv, 3)."""
@@ -476,6 +514,7 @@ class World:
         if velocities is not None:
             q_dot = transforms_to_q(_as_transforms(velocities, n, "velocities"))
         self._core.set_state(q, q_dot)
+        self._velocities.reset()
         if self._joints is not None:  # hinge angles restart from the new poses (in (−π, π])
             self._joints.reset(np.ascontiguousarray(q).reshape(-1))
 
@@ -650,6 +689,82 @@ class World:
         return float(
             self._core.min_contact_distance(-1.0 if max_distance is None else max_distance)
         )
+
+    def contacts(self) -> ContactForces:
+        """Contact forces of the last step, per contact pair (see ``ContactForces``).
+
+        The barrier forces at the current state and the friction lagged for the last step:
+        the forces the last step applied. (After ``set_state``, until the next step, the
+        friction part still refers to the last step's motion.) Empty without contact.
+        """
+        if self._contact is None:
+            return ContactForces.empty()
+        return ContactForces.from_core(self._contact.contact_forces(self._core.q.reshape(-1)))
+
+    def contact_wrenches(self) -> np.ndarray:
+        """Net contact force and torque on each body, (n_bodies, 6) rows ``[f, τ]`` (N, N m).
+
+        The torque is about the body's centre of mass; the forces are those of
+        ``contacts()`` (the last step's), summed over every pair the body is in.
+        """
+        if self._contact is None:
+            return np.zeros((self.num_bodies, 6))
+        if self._rest_centers is None:
+            self._rest_centers = rest_centers_of_mass(self._core.scene, self._handles)
+        q = self.q
+        centers = world_centers(q, self._rest_centers)
+        return np.asarray(self._contact.contact_wrenches(q.reshape(-1), centers))
+
+    # -- sensors (abdsim.sim.sensors) --------------------------------------------------------
+    @property
+    def sensors(self) -> SensorSet:
+        """This World's sensors (the scene's, plus those added with ``add_sensor``)."""
+        return self._sensors
+
+    def add_sensor(self, type: str, body: int, *args: Any, **kwargs: Any) -> int:
+        """Add a sensor on ``body`` (``SensorSet.add``'s arguments); returns its index."""
+        i = self._sensors.add(type, body, *args, **kwargs)
+        try:
+            self._sensors.check_bodies(self.num_bodies)
+        except ValueError:
+            self._sensors = SensorSet(self._sensors.specs[:-1])
+            raise
+        return i
+
+    @property
+    def sensor_adr(self) -> np.ndarray:
+        """Index of each sensor's first value in ``sensordata`` (MuJoCo's ``sensor_adr``)."""
+        return self._sensors.sensor_adr
+
+    @property
+    def sensor_dim(self) -> np.ndarray:
+        """Number of values of each sensor (MuJoCo's ``sensor_dim``)."""
+        return self._sensors.sensor_dim
+
+    @property
+    def sensor_names(self) -> list[str]:
+        return self._sensors.names
+
+    @property
+    def sensordata(self) -> np.ndarray:
+        """Every sensor's values at the current state, in MuJoCo's layout (NaN: unsupported)."""
+        specs = self._sensors.specs
+        types = {s.type for s in specs}
+        q, q_dot = self.q, self.q_dot
+        state = BodyState(q=q, q_dot=q_dot, acceleration=None, gravity=self._scene.gravity)
+        if types & {"accelerometer", "force", "torque"}:
+            st = self._scene.settings
+            state.acceleration = self._velocities.acceleration(q_dot, st.dt, st.integrator)
+        if types & {"touch", "force", "torque"}:
+            state.contacts = self.contacts()
+            state.wrenches = self.contact_wrenches()
+        if types & {"force", "torque"}:
+            if self._rest_centers is None:
+                self._rest_centers = rest_centers_of_mass(self._core.scene, self._handles)
+            state.rest_centers = self._rest_centers
+            bodies = {s.body for s in specs if s.type in ("force", "torque")}
+            state.mass_matrices = {b: np.asarray(self._core.mass_matrix(b)) for b in bodies}
+        return sensor_values(specs, state)
 
     def add_term(self, term: _core.EnergyTerm) -> None:
         """Add a potential (contact, joints, a ``_core.PythonEnergyTerm`` subclass...) to Π."""

@@ -88,7 +88,7 @@ def test_foxglove_channels_and_scene_meshes(tmp_path, scenes_dir):
             for c, n in summary.statistics.channel_message_counts.items()
         }
         chunk_compression = {c.compression for c in summary.chunk_indexes}
-    assert header.library.startswith("foxglove-sdk")
+    assert header.library.startswith("abdsim ")
     assert topics["/abdsim/tf"][0].name == "foxglove.FrameTransforms"
     assert topics["/abdsim/scene"][0].name == "foxglove.SceneUpdate"
     for topic in ("/abdsim/tf", "/abdsim/scene"):

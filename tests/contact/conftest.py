@@ -126,6 +126,33 @@ class WorldContact:
         sc.transforms = T
 
     @staticmethod
+    def pushing_world(speed, **settings):
+        """A scripted 10×20×10 cm block 2 cm behind a 10 cm box on the ground, moving
+        along +x at `speed` (m/s): (world, pusher handle, box handle). The box starts 1.5 mm
+        up, outside d̂, and lands in the first steps (a box placed inside d̂ gets the barrier
+        stiffness that makes its start an equilibrium, softer than the one it lands with)."""
+        import abdsim
+
+        scene = abdsim.Scene(dt=0.01, **settings)
+        scene.add_ground(0.0)
+        pusher = WorldContact.box((0.1, 0.2, 0.1))
+        WorldContact.place(pusher, [[-0.12, 0.0, 0.06]])
+        hp = scene.add(pusher, kinematic=True)
+        box = WorldContact.box((0.1, 0.1, 0.1))
+        WorldContact.place(box, [[0.0, 0.0, 0.0515]])
+        hb = scene.add(box)
+        world = abdsim.World(scene)
+        T0 = world.transforms()[hp.start]
+
+        def script(t):
+            T = T0.copy()
+            T[0, 3] += speed * t
+            return T
+
+        world.set_kinematic_schedule(hp.start, script)
+        return world, hp, hb
+
+    @staticmethod
     def coal_model(V, F):
         import coal
 

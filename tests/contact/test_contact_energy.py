@@ -114,3 +114,20 @@ def test_bouncing_energy_does_not_increase(integrator):
             run = []
     assert len(tops) >= 2  # it landed (BDF1 barely bounces, BDF2 does)
     assert np.all(np.diff(tops) <= 1e-9 * e0)
+
+
+def test_bdf2_restarts_with_bdf1_where_contact_begins_or_ends():
+    """The steps' integrator order: BDF1 first, BDF2 in flight and at rest, BDF1 right after
+    a step in which contact began or ended."""
+    world, _, _ = box_world(1.0, 0.01, "bdf2", 1e-3)
+    orders, touching = [], []
+    for _ in range(400):
+        d = world.step()
+        orders.append(d.integrator_order)
+        touching.append(d.min_contact_distance < D_HAT)
+    orders, touching = np.array(orders), np.array(touching)
+    assert orders[0] == 1 and orders[1] == 2
+    changed = np.flatnonzero(touching[1:] != touching[:-1]) + 1  # steps where it switched
+    assert len(changed) >= 2
+    assert np.all(orders[changed[changed + 1 < len(orders)] + 1] == 1)
+    assert (orders == 2).mean() > 0.9

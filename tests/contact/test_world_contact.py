@@ -309,23 +309,7 @@ def test_kinematic_pusher_pushes_a_box_without_penetrating_it(wc):
     (μ = 0.5) for a second: coal never finds an intersection, the box is pushed ahead of
     the pusher (about the pusher's travel), and the pusher follows its script to within
     the reported lag."""
-    scene = abdsim.Scene(dt=DT)
-    scene.add_ground(0.0)
-    pusher = wc.box((0.1, 0.2, 0.1))
-    wc.place(pusher, [[-0.12, 0.0, 0.06]])
-    hp = scene.add(pusher, kinematic=True)
-    box = wc.box((0.1, 0.1, 0.1))
-    wc.place(box, [[0.0, 0.0, 0.0505]])
-    hb = scene.add(box)
-    world = abdsim.World(scene)
-    T0 = world.transforms()[hp.start]
-
-    def script(t):
-        T = T0.copy()
-        T[0, 3] += 0.5 * t
-        return T
-
-    world.set_kinematic_schedule(hp.start, script)
+    world, hp, hb = wc.pushing_world(0.5)
     lags = []
     for _ in range(100):
         d = world.step()

@@ -159,3 +159,29 @@ def test_bad_scenes(tmp_path):
 def test_default_scene_is_bundled():
     assert default_scene().is_file()
     assert Path(default_scene()).name == "tossed_bodies.xml"
+
+
+def test_speed_is_one_convention_reported_stepping_and_end_to_end(result):
+    from abdsim.validation.speed import speed_vs_mujoco
+
+    t = result.metrics["timing"]
+    abd, mj = t["simulators"]["abdsim"], t["simulators"]["mujoco"]
+    # N× MuJoCo's speed, > 1 is faster: MuJoCo's wall time over abdsim's for the same steps.
+    assert abd["steps"] == mj["steps"]
+    assert t["speed_vs_mujoco"] == pytest.approx(mj["wall_time"] / abd["wall_time"], rel=1e-9)
+    assert t["speed_vs_mujoco_end_to_end"] == pytest.approx(
+        mj["end_to_end_wall_time"] / abd["end_to_end_wall_time"], rel=1e-9
+    )
+    for sim in t["simulators"].values():  # the whole run contains its steps
+        assert sim["end_to_end_wall_time"] >= sim["wall_time"] > 0
+    assert speed_vs_mujoco(2000.0, 1000.0) == 2.0  # twice MuJoCo's steps/s: 2× its speed
+    report = (result.out_dir / "report.md").read_text()
+    assert (
+        f"abdsim runs at {t['speed_vs_mujoco']:.2f}× MuJoCo's speed (> 1 is faster), stepping only"
+        in report
+    )
+    assert (
+        f"{t['speed_vs_mujoco_end_to_end']:.2f}× MuJoCo's speed (> 1 is faster), end to end"
+        in report
+    )
+    assert "time ratio" not in report

@@ -239,7 +239,13 @@ void bind_contact_term(py::module_& m) {
       .def_property_readonly("faces", [](const IpcContactTerm& t) { return t.mesh().faces; })
       .def_property_readonly("bbox_diagonal", &IpcContactTerm::bbox_diagonal)
       .def_property_readonly("stiffness_length", &IpcContactTerm::stiffness_length,
-                             "the length κ_min is measured against (1e3 d̂; IPC's bbox diagonal)");
+                             "the length κ_min is measured against (1e3 d̂; IPC's bbox diagonal)")
+      .def("contact_forces", &contact_forces_arrays, py::arg("q"),
+           "Forces at q (12 n,) per pair: dict of bodies (k, 2; -1 the ground), points, "
+           "normals (from the second side to the first), normal_force (k,), friction_force "
+           "(k, 3; on the first side).")
+      .def("contact_wrenches", &contact_wrenches_array, py::arg("q"), py::arg("centers"),
+           "Net contact force and torque about centers (n, 3, world) per body: (n, 6).");
 }
 
 }  // namespace abd::bindings

@@ -215,11 +215,17 @@ double IpcContactTerm::initialize_kappa(const VecX& q, const VecX& grad_rest) {
   VecX grad_barrier = VecX::Zero(q.size());
   add_barrier_gradient(set, 1.0, 1.0, grad_barrier);
   VecX rest = grad_rest;
-  for (int b = 0; b < mesh_.num_bodies(); ++b)
+  for (int b = 0; b < mesh_.num_bodies(); ++b) {
     if (mesh_.fixed[b]) {  // fixed dofs balance nothing
       grad_barrier.segment<12>(12 * b).setZero();
       rest.segment<12>(12 * b).setZero();
     }
+    // Only the translations: the barrier's moments on A are held by the stiff shape
+    // energy, not by the load, and counting them biased κ low (a box placed inside d̂ did
+    // not quite start in equilibrium). This is IPC's vertex-space balance for ABD's dofs.
+    grad_barrier.segment<9>(12 * b + 3).setZero();
+    rest.segment<9>(12 * b + 3).setZero();
+  }
   if (compressed_at_start_ && !fresh_compressed_) return kappa_;  // energy-neutral: keep it
   const double h = potential_scale_ > 0.0 ? std::sqrt(potential_scale_) : dt_;
   // The barrier's share of ∇Π is c² κ ∇b: the balance against the rest (IPC) is in

@@ -27,6 +27,7 @@
 #include "contact/active_set.h"
 #include "contact/barrier/adaptive_stiffness.h"
 #include "contact/broad_phase/broad_phase.h"
+#include "contact/contact_force.h"
 #include "contact/contact_mesh.h"
 #include "contact/contact_table.h"
 #include "contact/friction_set.h"
@@ -130,6 +131,15 @@ class IpcContactTerm : public EnergyTerm {
   void mark_friction_bodies(std::vector<unsigned char>& flags) const;
   // Sets flags[b] = 1 for every body in an active pair of the last update() (within d̂).
   void mark_active_bodies(std::vector<unsigned char>& flags) const;
+
+  // Forces at q of the active pairs (barrier) and of this step's lagged friction pairs, one
+  // record per pair with a non-zero force (ipc_contact_forces.cpp). At the state the solver
+  // converged to, these are the forces its step applied. Throws std::invalid_argument when q
+  // is infeasible (surfaces within their thickness).
+  std::vector<contact::ContactForce> contact_forces(const VecX& q) const;
+  // Net contact force and torque on each body, rows [f, τ] (n_bodies × 6), the torque about
+  // centers[b] (world); the same forces as contact_forces, summed per vertex.
+  contact::WrenchMatrix contact_wrenches(const VecX& q, const std::vector<Vec3>& centers) const;
 
   // Diagnostics about the last update() and begin_step().
   ContactCounts counts() const;

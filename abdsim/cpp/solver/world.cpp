@@ -240,6 +240,7 @@ const StepDiagnostics& World::step() {
 
   StepDiagnostics d;
   d.step = step_count_;
+  d.integrator_order = bdf2 ? 2 : 1;
   if (terms_.empty() && constraints_.empty() &&
       settings_.linear_solver == LinearSolverKind::kAuto) {
     step_per_body(c, bdf2, d);  // predictions, Newton and velocities in one parallel loop

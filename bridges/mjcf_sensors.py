@@ -1,0 +1,125 @@
+"""MJCF ``<sensor>`` elements as abdsim sensors (abdsim.sim.sensors), in MuJoCo's layout.
+
+Read from the compiled model: every MuJoCo sensor becomes one ``SensorSpec`` in the same
+order with the same ``sensor_dim``, so ``World.sensordata`` has MuJoCo's ``sensor_adr``.
+Supported: ``touch``, ``force``, ``torque``, ``accelerometer``, ``gyro``, ``velocimeter``
+(on sites) and ``framepos``, ``framequat`` (of a site, body (inertial frame), xbody, geom or
+camera, optionally relative to another such frame). Their frames are expressed in the frame of
+the loaded body (weld group root) the MuJoCo body belongs to. Everything else (``jointpos``,
+``jointvel``, ``actuatorfrc``: abdsim has no joints yet; other types; frames on the world or
+on a body that was not loaded) keeps its slot as an ``"unsupported"`` sensor (NaN values) and
+is named in ``LoadResult.notes``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from abdsim.bridges._bodies import pose_matrix, quat_wxyz_to_matrix
+from abdsim.sim.sensors import SENSOR_DIMS, SensorSpec
+
+_SITE_SENSORS = {"touch", "force", "torque", "accelerometer", "gyro", "velocimeter"}
+_FRAME_SENSORS = {"framepos", "framequat"}
+_NEEDS_JOINTS = {"jointpos", "jointvel", "actuatorfrc"}
+
+
+def _enum_name(enum: Any, value: int, prefix: str) -> str:
+    return enum(int(value)).name[len(prefix) :].lower()
+
+
+class _Frames:
+    """Poses of MuJoCo objects in the frame of the loaded body they move with."""
+
+    def __init__(self, loader: Any, source_map: dict[int, int]) -> None:
+        self.loader, self.m, self.source_map = loader, loader.m, source_map
+
+    def local(self, objtype: str, objid: int) -> tuple[int, np.ndarray] | None:
+        """(MuJoCo body, pose in that body's frame) of an object; None: not a frame."""
+        m = self.m
+        if objtype == "site":
+            R = quat_wxyz_to_matrix(m.site_quat[objid])
+            return int(m.site_bodyid[objid]), pose_matrix(R, m.site_pos[objid])
+        if objtype == "geom":
+            R = quat_wxyz_to_matrix(m.geom_quat[objid])
+            return int(m.geom_bodyid[objid]), pose_matrix(R, m.geom_pos[objid])
+        if objtype == "camera":
+            R = quat_wxyz_to_matrix(m.cam_quat[objid])
+            return int(m.cam_bodyid[objid]), pose_matrix(R, m.cam_pos[objid])
+        if objtype == "body":  # MuJoCo's "body" frame sensors use the inertial frame
+            R = quat_wxyz_to_matrix(m.body_iquat[objid])
+            return objid, pose_matrix(R, m.body_ipos[objid])
+        if objtype == "xbody":
+            return objid, np.eye(4)
+        return None
+
+    def in_loaded_body(self, objtype: str, objid: int) -> tuple[int, np.ndarray] | str:
+        """(abdsim body index, pose in its rest frame), or why there is none."""
+        found = self.local(objtype, objid)
+        if found is None:
+            return f"a frame of type {objtype!r} is not supported"
+        b, X = found
+        root = int(self.m.body_weldid[b])
+        if root == 0:
+            return "it is fixed to the world (no loaded body moves it)"
+        if root not in self.source_map:
+            return f"its body {self.loader.body_name(b)!r} was not loaded (no collision geometry)"
+        return self.source_map[root], self.loader.pose_in_root(b, root) @ X
+
+
+def read_sensors(loader: Any, source_map: dict[int, int]) -> list[SensorSpec]:
+    """One SensorSpec per MuJoCo sensor of ``loader``'s model, in order; what cannot be
+    computed becomes an ``"unsupported"`` slot and a note in ``loader.notes``."""
+    mj, m = loader.mj, loader.m
+    frames = _Frames(loader, source_map)
+    specs: list[SensorSpec] = []
+    for i in range(m.nsensor):
+        kind = _enum_name(mj.mjtSensor, m.sensor_type[i], "mjSENS_")
+        name = m.sensor(i).name or f"sensor{i}"
+        dim = int(m.sensor_dim[i])
+        objtype = _enum_name(mj.mjtObj, m.sensor_objtype[i], "mjOBJ_")
+        why = None
+        spec = None
+        if kind in _NEEDS_JOINTS:
+            why = "abdsim has no joints yet"
+        elif kind not in SENSOR_DIMS:
+            why = "this sensor type is not supported"
+        else:
+            where = frames.in_loaded_body(objtype, int(m.sensor_objid[i]))
+            ref = None
+            reftype = int(m.sensor_reftype[i])
+            if isinstance(where, str):
+                why = f"its {objtype} cannot be placed: {where}"
+            elif kind in _FRAME_SENSORS and int(m.sensor_refid[i]) >= 0 and reftype > 0:
+                ref_type = _enum_name(mj.mjtObj, reftype, "mjOBJ_")
+                ref = frames.in_loaded_body(ref_type, int(m.sensor_refid[i]))
+                if isinstance(ref, str):
+                    why = f"its reference {ref_type} cannot be placed: {ref}"
+            if why is None:
+                body, X = where
+                zone = None
+                if kind == "touch":
+                    site = int(m.sensor_objid[i])
+                    shape = _enum_name(mj.mjtGeom, m.site_type[site], "mjGEOM_")
+                    zone = (shape, np.array(m.site_size[site], dtype=np.float64))
+                spec = SensorSpec(
+                    type=kind,
+                    body=body,
+                    pos=X[:3, 3].copy(),
+                    rot=X[:3, :3].copy(),
+                    name=name,
+                    zone=zone,
+                    ref=None if ref is None else (ref[0], ref[1][:3, 3].copy(), ref[1][:3, :3]),
+                    cutoff=float(m.sensor_cutoff[i]),
+                    dim=dim,
+                    source=kind,
+                )
+        if spec is None:
+            loader.notes.append(
+                f"sensor {name!r} ({kind}): not computed ({why}); its {dim} value(s) in "
+                "sensordata are NaN"
+            )
+            spec = SensorSpec(type="unsupported", body=-1, name=name, dim=dim, source=kind)
+        specs.append(spec)
+    return specs
