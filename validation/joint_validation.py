@@ -73,7 +73,7 @@ def validate_joints(
     import abdsim
     from abdsim.bridges import build_articulated_scene, load_mjcf
     from abdsim.validation import plots
-    from abdsim.validation.harness import ValidationResult
+    from abdsim.validation.harness import ValidationResult, metrics_head
 
     t_start = time.perf_counter()
     with warnings.catch_warnings():
@@ -126,18 +126,16 @@ def validate_joints(
     passed = all(c.passed for c in checks)
     plot = plots.plot_joints(time_s, ours, theirs, [j.name for j in joints], out_dir / "joints.png")
     metrics = {
-        "scene": str(path),
-        "passed": passed,
-        "settings": {
-            "duration": duration,
-            "dt": dt,
-            "integrator": integrator,
-            "mujoco_integrator": "RK4",
-            "sample_dt": sample_dt,
-            "contact": False,
-        },
-        "tolerances": tol.as_dict(),
-        "checks": [c.as_dict() for c in checks],
+        **metrics_head(
+            path,
+            checks,
+            tol,
+            duration=duration,
+            dt=dt,
+            integrator=integrator,
+            sample_dt=sample_dt,
+            contact=False,
+        ),
         "joints": {
             j.name: {"kind": j.kind, "max_error": float(e)}
             for j, e in zip(joints, errors, strict=True)
