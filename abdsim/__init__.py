@@ -30,8 +30,10 @@ from abdsim.constitution import (
 from abdsim.geometry import SimplicialComplex
 from abdsim.sim import (
     GROUND,
+    ActuatorHandle,
     BodyHandle,
     ContactTable,
+    JointHandle,
     Scene,
     SceneSettings,
     SolverError,
@@ -43,12 +45,14 @@ __version__ = "0.1.0"
 
 __all__ = [
     "GROUND",
+    "ActuatorHandle",
     "AffineBodyConstitution",
     "AffineBodyRod",
     "AffineBodyShell",
     "BodyHandle",
     "ContactTable",
     "DyadicMass",
+    "JointHandle",
     "RigidBody",
     "Scene",
     "SceneSettings",

@@ -25,6 +25,7 @@ _EXPORTS = {
     "LoadResult": "_bodies",
     "load_urdf": "urdf",
     "load_mjcf": "mjcf",
+    "build_articulated_scene": "articulated",
     "KinematicDriver": "drivers",
     "RobotDriver": "drivers",
     "MjcfDriver": "drivers",
@@ -51,6 +52,7 @@ __all__ = [
     "McapLogger",
     "MjcfDriver",
     "RobotDriver",
+    "build_articulated_scene",
     "load_mjcf",
     "load_urdf",
     "log_info",
@@ -71,6 +73,7 @@ if TYPE_CHECKING:  # pragma: no cover
         LoaderError,
         LoadResult,
     )
+    from abdsim.bridges.articulated import build_articulated_scene
     from abdsim.bridges.drivers import KinematicDriver, MjcfDriver, RobotDriver
     from abdsim.bridges.log_reader import LogData, log_info, read_log
     from abdsim.bridges.mcap_log import McapLogger, close_logs, run_and_log, step_and_log

@@ -9,7 +9,9 @@ file) the log has four channels:
   ``ns/NAME``;
 * ``NS/bodies`` (``abdsim.BodyStates``, json), per step: exact 3x4 transform and dT/dt,
   position, quaternion, twist per body;
-* ``NS/diagnostics`` (``abdsim.StepDiagnostics``, json), per step: solver diagnostics.
+* ``NS/diagnostics`` (``abdsim.StepDiagnostics``, json), per step: solver diagnostics;
+* ``NS/joints`` (``abdsim.JointStates``, json), per step, for a World with joints: each
+  joint's name, kind, position and velocity.
 
 Foxglove's 3D panel shows the bodies from ``scene`` + ``tf``; its Plot panel can plot e.g.
 ``/abdsim/bodies.bodies[:]{name=="box"}.position[2]``. ``tf`` carries the rotation nearest to
@@ -109,6 +111,29 @@ DIAGNOSTICS_SCHEMA: dict[str, Any] = {
         "wall_time": {"type": "number", "description": "seconds spent in the step"},
     },
     "additionalProperties": True,
+}
+
+#: Schema of ``NS/joints`` (MuJoCo's joint conventions, see ``World.joint_positions``).
+JOINT_STATES_SCHEMA: dict[str, Any] = {
+    "title": "abdsim.JointStates",
+    "description": 'Joint coordinates after a step (Plot: joints[:]{name=="j"}.position[0])',
+    "type": "object",
+    "properties": {
+        "timestamp": DIAGNOSTICS_SCHEMA["properties"]["timestamp"],
+        "step": {"type": "integer"},
+        "joints": {
+            "type": "array",
+            "items": {
+                "type": "object",
+                "properties": {
+                    "name": {"type": "string"},
+                    "kind": {"type": "string"},
+                    "position": {"type": "array", "items": {"type": "number"}},
+                    "velocity": {"type": "array", "items": {"type": "number"}},
+                },
+            },
+        },
+    },
 }
 
 _PALETTE = (
@@ -406,12 +431,28 @@ class McapLogger:
         msg = to_jsonable(diagnostics)
         if not isinstance(msg, dict):
             msg = {"value": msg}
-        msg["timestamp"] = {"sec": t_ns // 1_000_000_000, "nsec": t_ns % 1_000_000_000}
+        msg["timestamp"] = _timestamp(t_ns)
         msg["time"] = float(time)
         if step is not None:
             msg.setdefault("step", int(step))
         msg.setdefault("step", max(self._steps[entry.name] - 1, 0))
         self._write(entry, "diagnostics", _dumps(msg), t_ns)
+
+    def log_joints(
+        self,
+        time: float,
+        joints: Sequence[dict[str, Any]],
+        *,
+        step: int | None = None,
+        namespace: str | None = None,
+    ) -> None:
+        """Log joint states: dicts with ``name``, ``kind``, ``position``, ``velocity``."""
+        self._check_open()
+        entry = self._namespace(namespace)
+        t_ns = self._time_ns(time)
+        msg = {"timestamp": _timestamp(t_ns), "joints": to_jsonable(list(joints))}
+        msg["step"] = int(step) if step is not None else max(self._steps[entry.name] - 1, 0)
+        self._write(entry, "joints", _dumps(msg), t_ns, JOINT_STATES_SCHEMA)
 
     def log_world(self, world: Any, *, namespace: str | None = None) -> None:
         """Log a World's current time, transforms, velocities and last step's diagnostics.
@@ -431,6 +472,21 @@ class McapLogger:
             step=step,
             namespace=namespace,
         )
+        joints = getattr(world, "joints", None)
+        if joints:
+            q, v = world.joint_positions(), world.joint_velocities()
+            states, iq, iv = [], 0, 0
+            for j in joints:
+                states.append(
+                    {
+                        "name": j.name,
+                        "kind": j.kind,
+                        "position": q[iq : iq + j.nq],
+                        "velocity": v[iv : iv + j.nv],
+                    }
+                )
+                iq, iv = iq + j.nq, iv + j.nv
+            self.log_joints(t, states, step=step, namespace=namespace)
         # Contact forces (NS/contacts, NS/contact_arrows) of Worlds with contact.
         from abdsim.bridges.contact_log import log_world_contacts
 
@@ -687,6 +743,11 @@ def to_jsonable(obj: Any, _depth: int = 0) -> Any:
         if not callable(v):
             attrs[k] = to_jsonable(v, _depth + 1)
     return attrs if attrs else repr(obj)
+
+
+def _timestamp(t_ns: int) -> dict[str, int]:
+    """foxglove.Time of a log time in nanoseconds."""
+    return {"sec": t_ns // 1_000_000_000, "nsec": t_ns % 1_000_000_000}
 
 
 def _dumps(msg: dict[str, Any]) -> bytes:

@@ -40,6 +40,18 @@ class ValidationResult:
         return [c for c in self.checks if not c.passed]
 
 
+def metrics_head(path: Path, checks: list[Check], tol: Tolerances, **settings) -> dict:
+    """The first entries of every metrics.json: scene, verdict, settings (MuJoCo runs RK4),
+    tolerances and checks."""
+    return {
+        "scene": str(path),
+        "passed": all(c.passed for c in checks),
+        "settings": {"mujoco_integrator": "RK4", **settings},
+        "tolerances": tol.as_dict(),
+        "checks": [c.as_dict() for c in checks],
+    }
+
+
 def validate(
     scene: str | Path | None = None,
     duration: float = 2.0,
@@ -92,6 +104,11 @@ def validate(
 
     if kind == "urdf":
         return _validate_urdf_inertias(path, out_dir, tol)
+    from abdsim.validation.joint_validation import has_joints_only, validate_joints
+    from abdsim.validation.mujoco_reference import load_model
+
+    if has_joints_only(load_model(path)):  # an articulation: joint trajectories
+        return validate_joints(path, duration, dt, out_dir, tol, integrator, sample_dt)
 
     t_start = time.perf_counter()
     setup = build_abdsim(
@@ -191,19 +208,17 @@ def validate(
     }
     passed = all(c.passed for c in checks)
     metrics = {
-        "scene": str(path),
-        "passed": passed,
-        "settings": {
-            "duration": duration,
-            "dt": dt,
-            "integrator": integrator,
-            "mujoco_integrator": "RK4",
-            "sample_dt": sample_dt,
-            "perturb_inertia": perturb_inertia or {},
+        **metrics_head(
+            path,
+            checks,
+            tol,
+            duration=duration,
+            dt=dt,
+            integrator=integrator,
+            sample_dt=sample_dt,
+            perturb_inertia=perturb_inertia or {},
             **setup.settings(),
-        },
-        "tolerances": tol.as_dict(),
-        "checks": [c.as_dict() for c in checks],
+        ),
         "inertia": inertia_rows,
         "free_flight": ff,
         "contact": contact,

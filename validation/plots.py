@@ -158,6 +158,24 @@ def plot_contact(abd: Trajectory, mj: Trajectory, path: Path, d_hat: float | Non
 
 
 @_locked
+def plot_joints(time: np.ndarray, abd: np.ndarray, mj: np.ndarray, names: list[str], path: Path):
+    """Joint coordinates (abdsim solid, MuJoCo dashed) and their difference, per joint."""
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    for k, name in enumerate(names):
+        (line,) = top.plot(time, abd[:, k], label=name)
+        top.plot(time, mj[:, k], "--", color=line.get_color(), alpha=0.8)
+        bottom.semilogy(time, np.abs(abd[:, k] - mj[:, k]) + 1e-16, color=line.get_color())
+    top.set_ylabel("joint position [rad or m]")
+    top.set_title("Joints: abdsim (solid) vs MuJoCo RK4 (dashed)")
+    top.legend(ncol=4, fontsize=8)
+    bottom.set_xlabel("time [s]")
+    bottom.set_ylabel("|abdsim - MuJoCo|")
+    for ax in (top, bottom):
+        ax.grid(alpha=0.3)
+    return _save(fig, path)
+
+
+@_locked
 def plot_snapshots(
     abd: Trajectory,
     mj: Trajectory,

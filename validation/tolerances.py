@@ -36,6 +36,10 @@ class Tolerances:
     first_contact_time: float = 0.03
     #: smallest admissible abdsim contact distance [m] (abdsim is intersection-free: > 0)
     min_contact_distance: float = 0.0
+    #: max joint-coordinate difference to MuJoCo RK4 for jointed scenes [rad or m]
+    joint_position: float = 1e-3
+    #: max joint violation in abdsim (anchor separation [m], axis misalignment [rad])
+    joint_violation: float = 1e-6
 
     @classmethod
     def names(cls) -> list[str]:

@@ -8,6 +8,14 @@ from typing import Any
 import numpy as np
 
 from abdsim.geometry.simplicial_complex import SimplicialComplex
+from abdsim.sim.joints import (
+    ActuatorHandle,
+    JointHandle,
+    body_index,
+    check_tree,
+    make_actuator,
+    make_joint,
+)
 from abdsim.sim.sensors import SensorSet
 from abdsim.sim.settings import SceneSettings
 
@@ -142,6 +150,8 @@ class Scene:
         self._handles: list[BodyHandle] = []
         self._ground: Ground | None = None
         self.contact_table = ContactTable()
+        self._joints: list[JointHandle] = []
+        self._actuators: list[ActuatorHandle] = []
         #: sensors every World of this scene starts with (``sensors.add(...)``, MJCF sensors)
         self.sensors = SensorSet()
 
@@ -258,6 +268,111 @@ class Scene:
         )
         self._geometries.append(sc)
         self._handles.append(handle)
+        return handle
+
+    @property
+    def joints(self) -> list[JointHandle]:
+        """Added joints, in order (the order of the joint coordinates)."""
+        return list(self._joints)
+
+    def add_joint(
+        self,
+        kind: str,
+        parent: BodyHandle | int | None = None,
+        child: BodyHandle | int | None = None,
+        anchor: Any = (0.0, 0.0, 0.0),
+        axis: Any = (0.0, 0.0, 1.0),
+        limits: tuple[float, float] | None = None,
+        damping: float = 0.0,
+        armature: float = 0.0,
+        stiffness: float = 0.0,
+        ref: float = 0.0,
+        frictionloss: float = 0.0,
+        name: str | None = None,
+    ) -> JointHandle:
+        """Join ``child`` to ``parent`` (None: the world); the World holds it exactly.
+
+        Args:
+            kind: ``"revolute"`` (also ``"hinge"``, ``"continuous"``), ``"prismatic"``
+                (``"slide"``), ``"ball"`` (``"spherical"``), ``"fixed"`` (``"weld"``) or
+                ``"free"`` (no constraint; world parent only).
+            parent, child: a handle of a one-instance geometry or a body index.
+            anchor: the joint's world position in the configuration the World is built from.
+            axis: hinge or slide direction in the world at that configuration.
+            limits: (lower, upper) in the joint coordinate (relative to load, so lower < 0 <
+                upper): a barrier that is never crossed (the joint stops within 1e-3 of it).
+            damping, armature, stiffness, ref, frictionloss: MuJoCo's joint damping (viscous,
+                implicit), armature (added inertia), spring stiffness about ``ref`` and dry
+                friction loss (smoothed below 1e-3 rad/s or m/s). Joint physics act on
+                revolute and prismatic joints only.
+            name: the joint's name (default ``joint<i>``).
+
+        Raises:
+            ValueError naming the joint: unknown kind, zero axis, parent == child, a body
+                with two parents or a loop, negative damping/armature/stiffness/
+                frictionloss, limits with lower > upper. An anchor far from both bodies is
+                reported when the World is built.
+        """
+        index = len(self._joints)
+        who = f"joint '{name if name is not None else f'joint{index}'}'"
+        n = self.num_bodies
+        joint = make_joint(
+            index,
+            kind,
+            body_index(f"{who} parent", parent, n, allow_world=True),
+            body_index(f"{who} child", child, n, allow_world=False),
+            anchor,
+            axis,
+            limits,
+            damping,
+            armature,
+            stiffness,
+            ref,
+            frictionloss,
+            name,
+        )
+        check_tree(self._joints, joint)
+        self._joints.append(joint)
+        return joint
+
+    @property
+    def actuators(self) -> list[ActuatorHandle]:
+        """Added actuators, in order (the order of ``world.ctrl``)."""
+        return list(self._actuators)
+
+    def add_actuator(
+        self,
+        joint: JointHandle | int | str,
+        kind: str = "motor",
+        kp: float = 0.0,
+        kv: float = 0.0,
+        gear: float = 1.0,
+        ctrl_range: tuple[float, float] | None = None,
+        force_range: tuple[float, float] | None = None,
+    ) -> ActuatorHandle:
+        """Drive a revolute or prismatic joint like MuJoCo's motor / position / velocity
+        actuator (see ``ActuatorHandle``); its control is ``world.ctrl[handle.index]``.
+
+        Raises:
+            ValueError naming the actuator and joint: unknown kind or joint, a joint that is
+                not 1-dof, negative gains, zero gear, a range with lower > upper.
+        """
+        if isinstance(joint, JointHandle):
+            if joint.index >= len(self._joints) or self._joints[joint.index] is not joint:
+                raise ValueError(f"joint '{joint.name}' is not a joint of this scene")
+        elif isinstance(joint, str):
+            found = [j for j in self._joints if j.name == joint]
+            if not found:
+                raise ValueError(f"no joint named {joint!r}")
+            joint = found[0]
+        elif isinstance(joint, (int, np.integer)) and 0 <= int(joint) < len(self._joints):
+            joint = self._joints[int(joint)]
+        else:
+            raise ValueError(f"unknown joint {joint!r}")
+        handle = make_actuator(
+            len(self._actuators), joint, kind, kp, kv, gear, ctrl_range, force_range
+        )
+        self._actuators.append(handle)
         return handle
 
     def contact_elements(self) -> np.ndarray:

@@ -67,6 +67,9 @@ class StepDiagnostics:
             the reported states), that would invert or collapse a body, or that Newton could
             not solve, is redone in halves (only the pieces that fail are halved again, down
             to dt / 1024); the iteration counts then sum over the pieces.
+        joint_violation: largest joint anchor separation (m) at the end of the step (for a
+            prismatic joint, its offset across the axis); 0 without joints.
+        joint_violation_angle: largest joint axis or frame misalignment (rad).
         linear_solver: ``"block_diagonal"``, ``"direct"`` or ``"pcg"``.
         pcg_iterations: PCG iterations summed over the step's Newton iterations.
         wall_time: seconds spent in the C++ step.
@@ -96,6 +99,8 @@ class StepDiagnostics:
     kinematic_lag_body: int = -1
     integrator_order: int = 1
     substeps: int = 1
+    joint_violation: float = 0.0
+    joint_violation_angle: float = 0.0
 
     @property
     def ccd_step_bound(self) -> float:
@@ -134,6 +139,8 @@ class StepDiagnostics:
             kinematic_lag_body=d.kinematic_lag_body,
             integrator_order=d.integrator_order,
             substeps=d.substeps,
+            joint_violation=d.joint_violation,
+            joint_violation_angle=d.joint_violation_angle,
         )
 
 
@@ -218,6 +225,7 @@ class World:
                 q0 = self._core.q
                 for b in h.bodies:
                     self._core.set_kinematic_target(b, q0[b])
+        self._joints = self._build_joints(data, scene)
         self._contact = None
         self._rest_centers: np.ndarray | None = None  # for contact_wrenches, on first use
         self._sensors = SensorSet(scene.sensors.specs)
@@ -232,6 +240,46 @@ class World:
         for h in self._handles:
             h.sc.meta["dof_offset"] = np.int32(12 * h.start)
             h.sc.meta["dof_count"] = np.int32(12 * len(h))
+
+    def _build_joints(self, data: _core.SceneData, scene: Scene):
+        """The scene's joints as one C++ constraint on the world, and their physics and
+        actuators as one energy term (None, None without joints)."""
+        joints = scene.joints
+        self._joint_forces = None
+        self._wrenches = None
+        if not joints:
+            return None
+        specs = []
+        for j in joints:
+            spec = _core.JointSpec()
+            spec.kind = getattr(_core.JointKind, j.kind)
+            spec.parent, spec.child = j.parent, j.child
+            spec.anchor, spec.axis = np.array(j.anchor), np.array(j.axis)
+            spec.name = j.name
+            specs.append(spec)
+        q0 = np.ascontiguousarray(self._core.q).reshape(-1)
+        joint_set = _core.JointSet(data, q0, specs)
+        self._core.add_constraint(joint_set)
+        if any(j.kind in ("revolute", "prismatic") for j in joints):
+            actuators = []
+            for a in scene.actuators:
+                spec = _core.ActuatorSpec()
+                spec.joint, spec.kind = a.joint, getattr(_core.ActuatorKind, a.kind)
+                spec.kp, spec.kv, spec.gear = a.kp, a.kv, a.gear
+                if a.ctrl_range is not None:
+                    spec.ctrl_limited = True
+                    spec.ctrl_lower, spec.ctrl_upper = a.ctrl_range
+                if a.force_range is not None:
+                    spec.force_limited = True
+                    spec.force_lower, spec.force_upper = a.force_range
+                actuators.append(spec)
+            physics = [j.core_physics() for j in joints]
+            self._joint_forces = _core.JointForceTerm(joint_set, data, physics, actuators)
+            self._core.add_term(self._joint_forces)
+        elif any(j.physics() for j in joints):
+            bad = next(j for j in joints if j.physics())
+            raise ValueError(f"joint '{bad.name}': joint physics act on 1-dof joints only")
+        return joint_set
 
     @staticmethod
     def _needs_contact(data: _core.SceneData, scene: Scene) -> bool:
@@ -474,7 +522,8 @@ class World:
     ) -> None:
         """Replace transforms and/or velocities (n_bodies, 4, 4); None keeps the current one.
 
-        BDF2 restarts with a BDF1 step.
+        BDF2 restarts with a BDF1 step; joints are projected back onto their constraints at the
+        next step (least mass-weighted change).
 
         Raises:
             ValueError: NaN/inf, wrong shapes, mirror or degenerate transforms; with contact,
@@ -498,6 +547,8 @@ class World:
             q_dot = transforms_to_q(_as_transforms(velocities, n, "velocities"))
         self._core.set_state(q, q_dot)
         self._velocities.reset()
+        if self._joints is not None:  # hinge angles restart from the new poses (in (−π, π])
+            self._joints.reset(np.ascontiguousarray(q).reshape(-1))
 
     def _check_nesting(self, q: np.ndarray, context: str) -> None:
         """Refuse a body wholly inside another's closed solid (contact cannot see it)."""
@@ -544,6 +595,106 @@ class World:
         for h in self._handles:
             h.sc.transforms = T[h.start : h.stop]
             h.sc.instances["velocity"] = V[h.start : h.stop]
+
+    # -- joints ---------------------------------------------------------------------------
+    @property
+    def joints(self) -> list:
+        """The scene's joints (``JointHandle``), in coordinate order."""
+        return self._scene.joints
+
+    def joint_positions(self) -> np.ndarray:
+        """Joint coordinates (nq,), in joint order, MuJoCo's conventions.
+
+        Revolute: the hinge angle (rad, unwrapped, 0 at load); prismatic: the slide (m, 0 at
+        load); ball: a w-first unit quaternion of the child's rotation relative to the
+        parent, relative to load; free: the body origin p and the quaternion of its
+        rotation; fixed: nothing. Affine bodies read as their nearest rotation.
+        """
+        if self._joints is None:
+            return np.zeros(0)
+        return np.asarray(self._joints.positions(np.ascontiguousarray(self._core.q).reshape(-1)))
+
+    def joint_velocities(self) -> np.ndarray:
+        """Joint velocities (nv,): hinge and slide rates, a ball's relative angular velocity in
+        the child's frame, a free body's (ṗ in the world, ω in the body frame)."""
+        if self._joints is None:
+            return np.zeros(0)
+        q = np.ascontiguousarray(self._core.q).reshape(-1)
+        q_dot = np.ascontiguousarray(self._core.q_dot).reshape(-1)
+        return np.asarray(self._joints.velocities(q, q_dot))
+
+    @property
+    def ctrl(self) -> np.ndarray:
+        """Actuator controls (n_actuators,), a writable view: ``world.ctrl[:] = targets``."""
+        if self._joint_forces is None:
+            return np.zeros(0)
+        return self._joint_forces.ctrl
+
+    def set_joint_forces(self, tau: np.ndarray | Sequence[float]) -> None:
+        """Generalized joint forces (nv,), like MuJoCo's ``qfrc_applied``; they persist until
+        replaced. Only revolute and prismatic joints take non-zero entries."""
+        nv = sum(j.nv for j in self.joints)
+        tau = np.asarray(tau, dtype=np.float64).reshape(-1)
+        if tau.shape != (nv,):
+            raise ValueError(f"set_joint_forces: expected {nv} values (nv), got {tau.shape}")
+        per_joint, k = np.zeros(len(self.joints)), 0
+        for j in self.joints:
+            if j.nv == 1:
+                per_joint[j.index] = tau[k]
+            elif np.any(tau[k : k + j.nv] != 0.0):
+                raise ValueError(f"set_joint_forces: joint '{j.name}' ({j.kind}) takes none")
+            k += j.nv
+        if self._joint_forces is None:
+            if np.any(per_joint != 0.0):
+                raise ValueError("set_joint_forces: the scene has no 1-dof joint")
+            return
+        self._joint_forces.set_joint_forces(per_joint)
+
+    def apply_wrench(
+        self,
+        body: int | BodyHandle,
+        force: Sequence[float] | np.ndarray = (0.0, 0.0, 0.0),
+        torque: Sequence[float] | np.ndarray = (0.0, 0.0, 0.0),
+        point: Sequence[float] | np.ndarray | None = None,
+    ) -> None:
+        """An external force (N) and torque (N·m) on a body, like MuJoCo's ``xfrc_applied``:
+        the force acts at the world ``point`` (the material point there now; None: the
+        centre of mass). It persists (replacing the body's previous wrench) until
+        ``clear_wrenches``."""
+        if isinstance(body, BodyHandle):
+            if len(body) != 1:
+                raise ValueError("apply_wrench: pass handle.body(i) for a multi-instance handle")
+            body = body.start
+        body = int(body)
+        if not 0 <= body < self.num_bodies:
+            raise IndexError(f"body index {body} out of range [0, {self.num_bodies})")
+        q = self.q[body]
+        A, p = q[3:].reshape(3, 3), q[:3]
+        if point is None:
+            mc = np.asarray(self._core.scene.body(body).mass_x_bar)
+            x_bar = mc / float(self._core.scene.body(body).mass)
+        else:
+            x_bar = np.linalg.solve(A, np.asarray(point, dtype=np.float64).reshape(3) - p)
+        if self._wrenches is None:
+            self._wrenches = _core.BodyWrenchTerm(self.num_bodies)
+            self._core.add_term(self._wrenches)
+        self._wrenches.set_wrench(
+            body,
+            np.asarray(force, dtype=np.float64).reshape(3),
+            np.asarray(torque, dtype=np.float64).reshape(3),
+            x_bar,
+        )
+
+    def clear_wrenches(self) -> None:
+        """Remove every wrench ``apply_wrench`` set."""
+        if self._wrenches is not None:
+            self._wrenches.clear()
+
+    def joint_violation(self) -> tuple[float, float]:
+        """(largest anchor separation in m, largest axis/frame misalignment in rad) now."""
+        if self._joints is None:
+            return (0.0, 0.0)
+        return tuple(self._joints.violation(np.ascontiguousarray(self._core.q).reshape(-1)))
 
     # -- kinematic (scripted) bodies ------------------------------------------------------
     def set_kinematic_target(self, body: int, transform: np.ndarray) -> None:

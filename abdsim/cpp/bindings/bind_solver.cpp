@@ -359,6 +359,8 @@ void bind_settings(py::module_& m) {
       .def_readonly("kinematic_lag", &StepDiagnostics::kinematic_lag)
       .def_readonly("kinematic_lag_body", &StepDiagnostics::kinematic_lag_body)
       .def_readonly("substeps", &StepDiagnostics::substeps)
+      .def_readonly("joint_violation", &StepDiagnostics::joint_violation)
+      .def_readonly("joint_violation_angle", &StepDiagnostics::joint_violation_angle)
       .def_readonly("linear_solver", &StepDiagnostics::linear_solver)
       .def_readonly("pcg_iterations", &StepDiagnostics::pcg_iterations)
       .def_readonly("wall_time", &StepDiagnostics::wall_time);
@@ -372,6 +374,10 @@ void bind_world(py::module_& m) {
           "add_term", [](World& w, std::shared_ptr<EnergyTerm> t) { w.add_term(std::move(t)); },
           py::arg("term"), py::keep_alive<1, 2>())
       .def_property_readonly("terms", &World::terms)
+      .def(
+          "add_constraint",
+          [](World& w, std::shared_ptr<Constraint> c) { w.add_constraint(std::move(c)); },
+          py::arg("constraint"), py::keep_alive<1, 2>())
       .def(
           "enable_contact",
           [](World& w, const ContactSettings& settings) {

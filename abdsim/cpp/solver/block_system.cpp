@@ -89,9 +89,9 @@ int BlockSystem::solve_block_diagonal(const VecX& rhs, VecX& x, int threads) con
   return -1;
 }
 
-void BlockSystem::solve_direct(const VecX& rhs, VecX& x) const {
+Eigen::SparseMatrix<double> BlockSystem::lower_matrix(std::vector<int>& index) const {
   // Only the free bodies enter the factorisation (a scene of many bodies may couple a few).
-  std::vector<int> index(n_, -1);
+  index.assign(n_, -1);
   int m = 0;
   for (int b = 0; b < n_; ++b)
     if (!fixed_[b]) index[b] = m++;
@@ -114,7 +114,13 @@ void BlockSystem::solve_direct(const VecX& rhs, VecX& x) const {
   }
   Eigen::SparseMatrix<double> A(12 * m, 12 * m);
   A.setFromTriplets(triplets.begin(), triplets.end());
-  VecX b_free(12 * m);
+  return A;
+}
+
+void BlockSystem::solve_direct(const VecX& rhs, VecX& x) const {
+  std::vector<int> index;
+  const Eigen::SparseMatrix<double> A = lower_matrix(index);
+  VecX b_free(A.rows());
   for (int b = 0; b < n_; ++b)
     if (!fixed_[b]) b_free.segment<12>(12 * index[b]) = rhs.segment<12>(12 * b);
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt(A);

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/SparseCore>
+
 #include "solver/energy_term.h"
 
 namespace abd {
@@ -24,6 +26,10 @@ class BlockSystem {
   // that every coupling comes with its transpose (throws SolverError otherwise).
   void finalize();
   bool coupled() const { return !offdiag_.empty(); }
+  bool is_fixed(int b) const { return fixed_[b] != 0; }
+  // The lower triangle of the matrix over the free bodies (what SimplicialLDLT reads);
+  // index[b] = the position of body b among them (−1 for fixed bodies).
+  Eigen::SparseMatrix<double> lower_matrix(std::vector<int>& index) const;
 
   // Per-body solve, valid when !coupled(). Returns the first body whose block is not
   // positive definite, or -1.

@@ -63,6 +63,10 @@ struct StepDiagnostics {
   // as 2, 4, 8, ... substeps; the counts above then sum (iterations) or take the extreme
   // (CCD bound) over them, the rest is the last substep's.
   int substeps = 1;
+  // Equality constraints (joints) at the end of the step: the largest anchor separation (m)
+  // and axis/frame misalignment (rad); zero without constraints.
+  double joint_violation = 0.0;
+  double joint_violation_angle = 0.0;
   std::string linear_solver;  // "block_diagonal", "direct", "pcg" or "none"
   long pcg_iterations = 0;    // summed over Newton iterations
   double wall_time = 0.0;     // seconds

@@ -90,6 +90,12 @@ class EnergyTerm {
   // return 1.
   virtual double max_step(const VecX& /*q*/, const VecX& /*dq*/) const { return 1.0; }
 
+  // A term whose force turns over a small speed scale (smoothed dry friction) tightens the
+  // per-body Newton tolerances (velocity units) of the bodies it acts on: a step tolerance
+  // above that speed cannot tell sticking from sliding. Called once per step, after
+  // begin_step; the vectors are sized to the number of bodies.
+  virtual void limit_tolerances(VecX& /*tol_translation*/, VecX& /*tol_affine*/) const {}
+
   // ---- Optional: splitting by body ---------------------------------------------------
   // A term made of elements that each involve one or two bodies (contact pairs, joints) can
   // say which bodies it couples. The solver then splits the bodies into independent groups

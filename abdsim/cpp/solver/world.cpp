@@ -111,6 +111,11 @@ void World::add_term(std::shared_ptr<EnergyTerm> term) {
   terms_.push_back(std::move(term));
 }
 
+void World::add_constraint(std::shared_ptr<Constraint> constraint) {
+  require(constraint != nullptr, "add_constraint: null constraint");
+  constraints_.push_back(std::move(constraint));
+}
+
 void World::set_state(const VecX& q, const VecX& q_dot) {
   require(q.size() == 12 * n_ && q_dot.size() == 12 * n_,
           "set_state: q and q_dot must have 12 * n_bodies = " + std::to_string(12 * n_) +
@@ -265,7 +270,8 @@ void World::solve_step(StepDiagnostics& d) {
   constrained_.resize(n_);
   d.integrator_order = bdf2 ? 2 : 1;
 
-  if (terms_.empty() && settings_.linear_solver == LinearSolverKind::kAuto) {
+  if (terms_.empty() && constraints_.empty() &&
+      settings_.linear_solver == LinearSolverKind::kAuto) {
     step_per_body(c, bdf2, d);  // predictions, Newton and velocities in one parallel loop
   } else {
     parallel_for(n_, threads_, [&](int b) { predict_body(b, c, bdf2); });
@@ -273,6 +279,7 @@ void World::solve_step(StepDiagnostics& d) {
     parallel_for(n_, threads_, [&](int b) { finish_body(b, c); });
   }
   contact_diagnostics(d);
+  constraint_diagnostics(d);
   if (!x_.allFinite() || !q_dot_new_.allFinite())
     throw SolverError("the step produced a non-finite state");
 }
@@ -285,6 +292,7 @@ void World::commit_step() {
   q_dot_.swap(q_dot_new_);
   has_history_ = true;
   for (const auto& t : terms_) has_history_ = has_history_ && !t->broke_smoothness();
+  for (const auto& c : constraints_) c->end_step(q_, q_dot_);
   fresh_state_ = false;
 }
 

@@ -37,6 +37,8 @@
 #include "contact/ipc_contact_term.h"
 #include "mass/dyadic_mass.h"
 #include "solver/block_system.h"
+#include "solver/constrained_solve.h"
+#include "solver/constraint.h"
 #include "solver/diagnostics.h"
 #include "solver/energy_term.h"
 #include "solver/scene_data.h"
@@ -57,6 +59,10 @@ class World {
   void add_term(std::unique_ptr<EnergyTerm> term) { add_term(std::shared_ptr<EnergyTerm>(std::move(term))); }
   const std::vector<std::shared_ptr<EnergyTerm>>& terms() const { return terms_; }
   const ShapeEnergyTerm& shape_term() const { return shape_; }
+  // Adds equality constraints (joints) that every step satisfies exactly (solver/
+  // constraint.h); constrained bodies are solved in islands, never on the free fast path.
+  void add_constraint(std::shared_ptr<Constraint> constraint);
+  const std::vector<std::shared_ptr<Constraint>>& constraints() const { return constraints_; }
 
   // IPC contact between the bodies' surfaces (and the ground, if settings.ground): builds the
   // contact term from the scene, checks the current state (std::invalid_argument naming the
@@ -151,6 +157,12 @@ class World {
   double body_energies(const VecX& x, double c2, VecX& E, std::vector<BodyLink>& links) const;
   double total_energy(const VecX& x, double c2, std::vector<double>* parts) const;
   void contact_diagnostics(StepDiagnostics& d) const;
+  // world_constraints.cpp: the rows of every constraint at x, their use in the island start,
+  // the projection of x_ onto them, and their violation.
+  void constraint_rows(const VecX& x, std::vector<ConstraintRow>& rows) const;
+  void join_constrained_islands(std::vector<unsigned char>& near);
+  void project_constraints();
+  void constraint_diagnostics(StepDiagnostics& d) const;
   // islands (union-find over bodies; roots are the smallest index)
   int island(int b);
   bool merge_islands(int a, int b);
@@ -163,6 +175,10 @@ class World {
   ShapeEnergyTerm shape_;
   std::vector<std::shared_ptr<EnergyTerm>> terms_;
   std::shared_ptr<IpcContactTerm> contact_;
+  std::vector<std::shared_ptr<Constraint>> constraints_;
+  std::vector<unsigned char> jointed_;  // movable bodies under a constraint this step
+  KktFactorisation kkt_newton_, kkt_projection_;  // patterns kept from solve to solve
+  bool nonlinear_constraints_ = false;
 
   VecX q_, q_dot_;            // current state
   VecX q_prev_, q_dot_prev_;  // previous state (BDF2)

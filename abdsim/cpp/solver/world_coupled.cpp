@@ -23,6 +23,7 @@
 
 #include "common/affine.h"
 #include "solver/body_math.h"
+#include "solver/constrained_solve.h"
 #include "solver/parallel.h"
 #include "solver/world.h"
 #include "solver/world_detail.h"
@@ -249,6 +250,7 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   std::vector<BodyLink> links;
   const double global = step_bounds(x_, dq_, movable_, near, links);
   for (const BodyLink& l : links) merge_islands(l.a, l.b);
+  join_constrained_islands(near);
   std::vector<unsigned char> stays(n_, 0);  // per island root: start where it is
   for (int b = 0; b < n_; ++b)
     if (movable_[b] && (near[b] || bound_[b] < 1.0 || global < 1.0)) stays[island(b)] = 1;
@@ -301,6 +303,7 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
     if (!stays[island(b)]) x_.segment<12>(12 * b) = x_free_.segment<12>(12 * b);
     all_clear = all_clear && solved[b];
   }
+  project_constraints();  // constrained bodies start where they are: on c = 0
   for (const auto& t : terms_) {
     if (all_clear && t.get() == contact_.get())
       contact_->set_no_active_pairs(x_);  // what update() would find, without the query
@@ -381,6 +384,8 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
         tol_affine_[b] = std::min(tol_affine_[b], tol / radius_[b]);
       }
   }
+
+  for (const auto& t : terms_) t->limit_tolerances(tol_translation_, tol_affine_);
 
   // 1. Kinematic bodies; 2. the start iterate.
   x_ = q_;
@@ -483,12 +488,21 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     d.residual = grad_.cwiseAbs().maxCoeff();
 
     const VecX rhs = -grad_;
+    std::vector<ConstraintRow> rows;
+    bool constrained = false;
+    for (int b = 0; b < n_ && !constraints_.empty(); ++b)
+      constrained = constrained || (jointed_[b] && !inactive[b]);
+    if (constrained) constraint_rows(x_, rows);
     LinearSolverKind kind = settings_.linear_solver;
-    const bool per_body = kind == LinearSolverKind::kAuto && !system_.coupled();
+    const bool per_body = kind == LinearSolverKind::kAuto && !system_.coupled() && !constrained;
     if (kind == LinearSolverKind::kAuto)
       kind = 12 * n_active <= settings_.direct_max_dofs ? LinearSolverKind::kDirect
                                                         : LinearSolverKind::kPCG;
-    if (per_body) {
+    if (constrained) {
+      // Exact constraints: the KKT system (sparse direct; constrained_solve.h).
+      solver_used = "direct";
+      kkt_newton_.solve(system_, rows, rhs, dq_);
+    } else if (per_body) {
       solver_used = "block_diagonal";
       const int bad = system_.solve_block_diagonal(rhs, dq_, threads_);
       if (bad >= 0)
@@ -537,7 +551,8 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     parallel_for(
         n_, threads_,
         [&](int b) {
-          if (inactive[b]) return;
+          // Constrained bodies keep the straight step: it keeps linear rows exact.
+          if (inactive[b] || (!jointed_.empty() && jointed_[b])) return;
           dq_.segment<12>(12 * b) = rotation_exact_step(x_.segment<12>(12 * b),
                                                         dq_newton.segment<12>(12 * b),
                                                         dyadic_[b].m_x_bar / dyadic_[b].m);
@@ -683,6 +698,13 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     x_.swap(trial_);
     body_E_.swap(body_E_new_);
     rest = rest_new;
+    if (nonlinear_constraints_) {
+      // Back onto the constraints that the linearised step only met to first order.
+      project_constraints();
+      links.clear();
+      rest = body_energies(x_, c2, body_E_, links);
+      for (const BodyLink& l : links) merge_islands(l.a, l.b);
+    }
 
     // Accept: terms see the new iterate; islands they now link iterate again together.
     const double kappa_before = contact_ ? contact_->kappa() : 0.0;

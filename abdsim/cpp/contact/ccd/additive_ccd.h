@@ -21,7 +21,7 @@ struct CcdOptions {
   double min_distance = 0.0;   // ξ: the primitives must stay farther apart than this
   double tmax = 1.0;
   double target = 0.1;         // s: keep at least s × the initial gap
-  long max_iterations = 1000000;  // a cap for grazing motion; the t reached so far is safe
+  long max_iterations = 10000;  // a cap for grazing motion; the t reached so far is safe
 };
 
 double point_point_ccd(const Vec3& p0_t0, const Vec3& p1_t0, const Vec3& p0_t1,

@@ -1,0 +1,117 @@
+// Joint bindings: the Constraint interface, JointSpec and the JointSet (a Constraint the
+// Python World adds with World.add_constraint). States cross as flat (12 n,) arrays.
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bindings/bindings.h"
+#include "joints/body_wrench_term.h"
+#include "joints/joint_force_term.h"
+#include "joints/joint_set.h"
+#include "solver/constraint.h"
+
+namespace py = pybind11;
+
+namespace abd::bindings {
+
+void bind_joints(py::module_& m) {
+  py::class_<Constraint, std::shared_ptr<Constraint>>(
+      m, "Constraint", "Equality constraints every step satisfies exactly (joints).")
+      .def_property_readonly("name", &Constraint::name)
+      .def_property_readonly("linear", &Constraint::linear)
+      .def(
+          "violation",
+          [](const Constraint& c, const VecX& q) {
+            const ConstraintViolation v = c.violation(q);
+            return py::make_tuple(v.position, v.angle);
+          },
+          py::arg("q"), "(largest anchor separation in m, largest misalignment in rad) at q.");
+
+  py::enum_<JointKind>(m, "JointKind")
+      .value("free", JointKind::kFree)
+      .value("ball", JointKind::kBall)
+      .value("revolute", JointKind::kRevolute)
+      .value("prismatic", JointKind::kPrismatic)
+      .value("fixed", JointKind::kFixed);
+
+  py::class_<JointSpec>(m, "JointSpec", "A joint as given: kind, bodies, world anchor and axis.")
+      .def(py::init<>())
+      .def_readwrite("kind", &JointSpec::kind)
+      .def_readwrite("parent", &JointSpec::parent)
+      .def_readwrite("child", &JointSpec::child)
+      .def_readwrite("anchor", &JointSpec::anchor)
+      .def_readwrite("axis", &JointSpec::axis)
+      .def_readwrite("name", &JointSpec::name);
+
+  py::class_<JointSet, Constraint, std::shared_ptr<JointSet>>(m, "JointSet")
+      .def(py::init<const SceneData&, const VecX&, const std::vector<JointSpec>&>(),
+           py::arg("scene"), py::arg("q0"), py::arg("specs"),
+           "Joints with the bodies' flat state q0 (12 n,) as reference; ValueError naming a "
+           "bad joint.")
+      .def_property_readonly("size", &JointSet::size)
+      .def_property_readonly("nq", &JointSet::nq)
+      .def_property_readonly("nv", &JointSet::nv)
+      .def("q_offset", &JointSet::q_offset, py::arg("joint"))
+      .def("v_offset", &JointSet::v_offset, py::arg("joint"))
+      .def("positions", &JointSet::positions, py::arg("q"))
+      .def("velocities", &JointSet::velocities, py::arg("q"), py::arg("q_dot"))
+      .def("reset", &JointSet::reset, py::arg("q"));
+
+  py::class_<JointPhysics>(m, "JointPhysics", "A joint's spring, damping, armature, friction "
+                                              "loss and limits (MuJoCo's meanings).")
+      .def(py::init<>())
+      .def_readwrite("stiffness", &JointPhysics::stiffness)
+      .def_readwrite("ref", &JointPhysics::ref)
+      .def_readwrite("damping", &JointPhysics::damping)
+      .def_readwrite("armature", &JointPhysics::armature)
+      .def_readwrite("frictionloss", &JointPhysics::frictionloss)
+      .def_readwrite("limited", &JointPhysics::limited)
+      .def_readwrite("lower", &JointPhysics::lower)
+      .def_readwrite("upper", &JointPhysics::upper);
+
+  py::enum_<ActuatorKind>(m, "ActuatorKind")
+      .value("motor", ActuatorKind::kMotor)
+      .value("position", ActuatorKind::kPosition)
+      .value("velocity", ActuatorKind::kVelocity);
+
+  py::class_<ActuatorSpec>(m, "ActuatorSpec")
+      .def(py::init<>())
+      .def_readwrite("joint", &ActuatorSpec::joint)
+      .def_readwrite("kind", &ActuatorSpec::kind)
+      .def_readwrite("kp", &ActuatorSpec::kp)
+      .def_readwrite("kv", &ActuatorSpec::kv)
+      .def_readwrite("gear", &ActuatorSpec::gear)
+      .def_readwrite("ctrl_limited", &ActuatorSpec::ctrl_limited)
+      .def_readwrite("ctrl_lower", &ActuatorSpec::ctrl_lower)
+      .def_readwrite("ctrl_upper", &ActuatorSpec::ctrl_upper)
+      .def_readwrite("force_limited", &ActuatorSpec::force_limited)
+      .def_readwrite("force_lower", &ActuatorSpec::force_lower)
+      .def_readwrite("force_upper", &ActuatorSpec::force_upper);
+
+  py::class_<JointForceTerm, EnergyTerm, std::shared_ptr<JointForceTerm>>(m, "JointForceTerm")
+      .def(py::init<std::shared_ptr<const JointSet>, const SceneData&,
+                    const std::vector<JointPhysics>&, const std::vector<ActuatorSpec>&>(),
+           py::arg("joints"), py::arg("scene"), py::arg("physics"), py::arg("actuators"))
+      .def_property_readonly(
+          "ctrl",
+          [](py::object self) {
+            JointForceTerm& t = self.cast<JointForceTerm&>();
+            VecX& c = t.ctrl();
+            // A writable view on the term's controls (world.ctrl[:] = targets).
+            return py::array_t<double>({c.size()}, {sizeof(double)}, c.data(), self);
+          })
+      .def("set_joint_forces", &JointForceTerm::set_joint_forces, py::arg("tau"))
+      .def_property_readonly("joint_forces", &JointForceTerm::joint_forces);
+
+  py::class_<BodyWrenchTerm, EnergyTerm, std::shared_ptr<BodyWrenchTerm>>(m, "BodyWrenchTerm")
+      .def(py::init<int>(), py::arg("n_bodies"))
+      .def("set_wrench", &BodyWrenchTerm::set_wrench, py::arg("body"), py::arg("force"),
+           py::arg("torque"), py::arg("x_bar"))
+      .def("clear", &BodyWrenchTerm::clear);
+}
+
+}  // namespace abd::bindings

@@ -1,0 +1,94 @@
+#include "joints/joint_rows.h"
+
+#include "common/affine.h"
+#include "joints/joint_state.h"
+
+namespace abd {
+namespace {
+
+// (x_c − x_p)_k for the rest points xc̄ (child) and xp̄ (parent), k = 0..2.
+void point_rows(const JointFrame& f, const Vec12& qc, const Vec12& qp, const Vec3& xc_bar,
+                const Vec3& xp_bar, std::vector<ConstraintRow>& rows) {
+  const Vec3 gap = affine_point(qc, xc_bar) - affine_point(qp, xp_bar);
+  for (int k = 0; k < 3; ++k) {
+    ConstraintRow r;
+    r.body_a = f.spec.child;
+    r.body_b = f.spec.parent;
+    r.ja[k] = 1.0;
+    r.ja.segment<3>(3 + 3 * k) = xc_bar;
+    r.jb[k] = -1.0;
+    r.jb.segment<3>(3 + 3 * k) = -xp_bar;
+    r.value = gap[k];
+    rows.push_back(r);
+  }
+}
+
+// (A_c ē_c − A_p ē_p)_k for the three world directions of the load frame.
+void frame_rows(const JointFrame& f, const Vec12& qc, const Vec12& qp,
+                std::vector<ConstraintRow>& rows) {
+  const Mat3 gap = affine_A(qc) * f.basis_c - affine_A(qp) * f.basis_p;
+  for (int j = 0; j < 3; ++j)
+    for (int k = 0; k < 3; ++k) {
+      ConstraintRow r;
+      r.body_a = f.spec.child;
+      r.body_b = f.spec.parent;
+      r.ja.segment<3>(3 + 3 * k) = f.basis_c.col(j);
+      r.jb.segment<3>(3 + 3 * k) = -f.basis_p.col(j);
+      r.value = gap(k, j);
+      rows.push_back(r);
+    }
+}
+
+// n·(x_c − x_p) with n = A_p n̄ for the two normals of the parent's axis.
+void offset_rows(const JointFrame& f, const Vec12& qc, const Vec12& qp,
+                 std::vector<ConstraintRow>& rows) {
+  const Vec3 d = affine_point(qc, f.anchor_c) - affine_point(qp, f.anchor_p);
+  const Mat3 Ap = affine_A(qp);
+  for (const Vec3& n_bar : {f.normal_p, f.normal2_p}) {
+    const Vec3 n = Ap * n_bar;
+    ConstraintRow r;
+    r.body_a = f.spec.child;
+    r.body_b = f.spec.parent;
+    for (int k = 0; k < 3; ++k) {
+      r.ja[k] = n[k];
+      r.ja.segment<3>(3 + 3 * k) = n[k] * f.anchor_c;
+      r.jb[k] = -n[k];
+      // ∂/∂a_k of n·d: −n_k x̄_p from d, d_k n̄ from n_k = a_k·n̄.
+      r.jb.segment<3>(3 + 3 * k) = -n[k] * f.anchor_p + d[k] * n_bar;
+    }
+    r.value = n.dot(d);
+    rows.push_back(r);
+  }
+}
+
+}  // namespace
+
+bool joint_rows_linear(const JointFrame& f) {
+  return f.spec.kind != JointKind::kPrismatic || f.spec.parent < 0;
+}
+
+void append_joint_rows(const JointFrame& f, const VecX& q, std::vector<ConstraintRow>& rows) {
+  const Vec12 qc = body_q(q, f.spec.child);
+  const Vec12 qp = body_q(q, f.spec.parent);
+  switch (f.spec.kind) {
+    case JointKind::kFree:
+      break;
+    case JointKind::kBall:
+      point_rows(f, qc, qp, f.anchor_c, f.anchor_p, rows);
+      break;
+    case JointKind::kRevolute:
+      point_rows(f, qc, qp, f.anchor_c, f.anchor_p, rows);
+      point_rows(f, qc, qp, f.tip_c, f.tip_p, rows);
+      break;
+    case JointKind::kFixed:
+      point_rows(f, qc, qp, f.anchor_c, f.anchor_p, rows);
+      frame_rows(f, qc, qp, rows);
+      break;
+    case JointKind::kPrismatic:
+      frame_rows(f, qc, qp, rows);
+      offset_rows(f, qc, qp, rows);
+      break;
+  }
+}
+
+}  // namespace abd

@@ -1,0 +1,108 @@
+#include "joints/joint_set.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include "joints/joint_coordinates.h"
+#include "joints/joint_frame.h"
+#include "joints/joint_rows.h"
+
+namespace abd {
+
+JointSet::JointSet(const SceneData& scene, const VecX& q0, const std::vector<JointSpec>& specs) {
+  const int n = static_cast<int>(scene.bodies.size());
+  if (q0.size() != 12 * n)
+    throw std::invalid_argument("joints: q0 must have 12 * n_bodies entries");
+  std::vector<int> parent_of(n, -2);
+  std::vector<int> root(n + 1);  // union-find over bodies and the world (index n)
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](int b) {
+    while (root[b] != b) b = root[b] = root[root[b]];
+    return b;
+  };
+  for (const JointSpec& s : specs) {
+    frames_.push_back(make_joint_frame(s, scene, q0));  // range and geometry checks
+    const std::string who = "joint '" + s.name + "'";
+    if (parent_of[s.child] != -2)
+      throw std::invalid_argument(who + ": body " + std::to_string(s.child) +
+                                  " is already the child of another joint (each body has "
+                                  "one parent joint)");
+    parent_of[s.child] = s.parent;
+    const int a = find(s.child), b = find(s.parent < 0 ? n : s.parent);
+    if (a == b)
+      throw std::invalid_argument(who + ": it closes a kinematic loop (loops are not supported)");
+    root[a] = b;
+  }
+  for (const JointFrame& f : frames_) {
+    q_offset_.push_back(nq_);
+    v_offset_.push_back(nv_);
+    nq_ += joint_nq(f.spec.kind);
+    nv_ += joint_nv(f.spec.kind);
+    linear_ = linear_ && joint_rows_linear(f);
+  }
+  last_angle_.assign(frames_.size(), 0.0);
+  reset(q0);
+}
+
+void JointSet::linearize(const VecX& q, std::vector<ConstraintRow>& rows) const {
+  for (const JointFrame& f : frames_) append_joint_rows(f, q, rows);
+}
+
+void JointSet::body_links(std::vector<BodyLink>& links) const {
+  for (const JointFrame& f : frames_)
+    if (f.spec.parent >= 0) links.push_back({f.spec.parent, f.spec.child});
+}
+
+void JointSet::mark_bodies(std::vector<unsigned char>& marked) const {
+  for (const JointFrame& f : frames_) {
+    if (f.spec.kind == JointKind::kFree) continue;
+    marked[f.spec.child] = 1;
+    if (f.spec.parent >= 0) marked[f.spec.parent] = 1;
+  }
+}
+
+ConstraintViolation JointSet::violation(const VecX& q) const {
+  ConstraintViolation worst;
+  for (const JointFrame& f : frames_) {
+    const ConstraintViolation v = joint_violation(f, q);
+    worst.position = std::max(worst.position, v.position);
+    worst.angle = std::max(worst.angle, v.angle);
+  }
+  return worst;
+}
+
+// The hinge angle nearest to the last one (no wrap at ±π, as MuJoCo's hinge qpos).
+double JointSet::unwrapped_angle(int j, const VecX& q) const {
+  const double a = hinge_angle(frames_[j], q);
+  const double two_pi = 2.0 * M_PI;
+  return a + two_pi * std::round((last_angle_[j] - a) / two_pi);
+}
+
+void JointSet::end_step(const VecX& q, const VecX& /*q_dot*/) {
+  for (int j = 0; j < size(); ++j)
+    if (frames_[j].spec.kind == JointKind::kRevolute) last_angle_[j] = unwrapped_angle(j, q);
+}
+
+void JointSet::reset(const VecX& q) {
+  std::fill(last_angle_.begin(), last_angle_.end(), 0.0);
+  end_step(q, q);
+}
+
+VecX JointSet::positions(const VecX& q) const {
+  VecX out = VecX::Zero(nq_);
+  for (int j = 0; j < size(); ++j) {
+    joint_position(frames_[j], q, out.data() + q_offset_[j]);
+    if (frames_[j].spec.kind == JointKind::kRevolute) out[q_offset_[j]] = unwrapped_angle(j, q);
+  }
+  return out;
+}
+
+VecX JointSet::velocities(const VecX& q, const VecX& q_dot) const {
+  VecX out = VecX::Zero(nv_);
+  for (int j = 0; j < size(); ++j) joint_velocity(frames_[j], q, q_dot, out.data() + v_offset_[j]);
+  return out;
+}
+
+}  // namespace abd

@@ -1,0 +1,51 @@
+// The joints of a scene as one Constraint (solver/constraint.h): exact equality rows in the
+// Newton solve, joint coordinates (unwrapped hinge angles) and violations.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "joints/joint_spec.h"
+#include "solver/constraint.h"
+#include "solver/scene_data.h"
+
+namespace abd {
+
+class JointSet : public Constraint {
+ public:
+  // q0: the bodies' states at load (the joints' reference configuration). Throws
+  // std::invalid_argument naming the joint for a bad joint (bodies out of range, parent ==
+  // child, zero axis, anchor far from both bodies, a child with two parents, a loop).
+  JointSet(const SceneData& scene, const VecX& q0, const std::vector<JointSpec>& specs);
+
+  std::string name() const override { return "joints"; }
+  void linearize(const VecX& q, std::vector<ConstraintRow>& rows) const override;
+  bool linear() const override { return linear_; }
+  void body_links(std::vector<BodyLink>& links) const override;
+  void mark_bodies(std::vector<unsigned char>& marked) const override;
+  ConstraintViolation violation(const VecX& q) const override;
+  void end_step(const VecX& q, const VecX& q_dot) override;
+
+  int size() const { return static_cast<int>(frames_.size()); }
+  const JointFrame& frame(int j) const { return frames_.at(j); }
+  int nq() const { return nq_; }
+  int nv() const { return nv_; }
+  // Offsets of each joint's coordinates in positions() / velocities().
+  int q_offset(int j) const { return q_offset_.at(j); }
+  int v_offset(int j) const { return v_offset_.at(j); }
+  // Joint coordinates at q (hinge angles unwrapped against the last end_step).
+  VecX positions(const VecX& q) const;
+  VecX velocities(const VecX& q, const VecX& q_dot) const;
+  // Restarts the unwrapping from q (after a teleport).
+  void reset(const VecX& q);
+
+ private:
+  double unwrapped_angle(int j, const VecX& q) const;
+
+  std::vector<JointFrame> frames_;
+  std::vector<int> q_offset_, v_offset_;
+  std::vector<double> last_angle_;  // unwrapped hinge angle at the last end_step
+  int nq_ = 0, nv_ = 0;
+  bool linear_ = true;
+};
+
+}  // namespace abd

@@ -1,0 +1,34 @@
+// The Newton step under equality constraints (solver/constraint.h): the KKT system
+//   [H Jᵀ; J 0] [x; λ] = [rhs; −c]
+// solved as one sparse quasi-definite LDLᵀ (constrained_solve.cpp), H being SPD (the projected
+// Newton matrix, or the mass matrix for a projection): a tree of joints costs about what its
+// chain of 12x12 blocks costs. Exact (no stiffness), so a step from a point where linear
+// constraints hold keeps them to round-off.
+#pragma once
+#include <Eigen/SparseCholesky>
+#include <vector>
+
+#include "solver/block_system.h"
+#include "solver/constraint.h"
+
+namespace abd {
+
+// The factorisation kept between solves: a KKT matrix with the sparsity pattern of the last
+// one (an articulation without contact keeps it step after step) skips the fill-reducing
+// ordering and symbolic analysis, which cost as much as the numeric factorisation.
+class KktFactorisation {
+ public:
+  // x over every body (zero on the bodies fixed in `system`). Columns of fixed bodies are
+  // dropped from the rows (they are constants this solve); rows with no free column are
+  // ignored. Throws SolverError when the system cannot be factorised or solved (redundant
+  // constraints, a loop).
+  void solve(const BlockSystem& system, const std::vector<ConstraintRow>& rows,
+             const VecX& rhs, VecX& x);
+
+ private:
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt_;
+  std::vector<int> outer_, inner_;  // pattern of the analysed matrix
+  bool analysed_ = false;
+};
+
+}  // namespace abd
