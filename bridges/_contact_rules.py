@@ -12,7 +12,11 @@ The loaders give every body its own contact element (its body index) and fill
   pair friction, each pair's being MuJoCo's default ``max(μ1, μ2)`` (or the explicit pair's).
   The same rules against the ground's plane geoms give the ground's row.
 * **URDF**: links joined by a joint never collide (each body with its parent body), nor the
-  pairs an SRDF lists as ``<disable_collisions link1= link2=/>``.
+  pairs an SRDF lists as ``<disable_collisions link1= link2=/>``, nor (MoveIt's "default"
+  rule) a moving body and another link of the robot whose surfaces already touch or lie within
+  ``TOUCH_MARGIN`` of each other in the loaded configuration: real collision meshes overlap at
+  the joints (a trunk and its thighs), which an intersection-free simulator cannot start from.
+  A note lists those pairs.
 """
 
 from __future__ import annotations
@@ -169,3 +173,51 @@ def _mjcf_geom_filter(mujoco, m, geoms: np.ndarray) -> np.ndarray:
         excluded = np.isin(key, list(sig))
         ok &= ~excluded
     return ok
+
+
+#: Surfaces of one robot closer than this (m) when loaded never collide (URDF; twice the
+#: default barrier distance d̂, so that no barrier starts active between them).
+TOUCH_MARGIN = 2e-3
+
+
+def exclude_touching(bodies, rules: ContactRules, notes: list[str]) -> None:
+    """Add the pairs (one body dynamic) that touch at load to ``rules.excluded``, with a note."""
+    import coal
+
+    moving = [i for i, b in enumerate(bodies) if b.kind == "dynamic"]
+    if not moving:
+        return
+    models: dict[int, object] = {}
+
+    def model(i: int):
+        if i not in models:
+            g = bodies[i].geometry
+            T = np.asarray(g.transforms[0])
+            V = np.asarray(g.positions) @ T[:3, :3].T + T[:3, 3]
+            m = coal.BVHModelOBBRSS()
+            m.beginModel(len(g.triangles), len(V))
+            m.addVertices(np.ascontiguousarray(V, dtype=np.float64))
+            m.addTriangles(np.ascontiguousarray(g.triangles, dtype=np.int64))
+            m.endModel()
+            models[i] = m
+        return models[i]
+
+    found = []
+    for i in moving:
+        for j in range(len(bodies)):
+            pair = _pair(i, j)
+            if j == i or pair in rules.excluded or (j in moving and j < i):
+                continue
+            request = coal.CollisionRequest()
+            request.security_margin = TOUCH_MARGIN
+            result = coal.CollisionResult()
+            if coal.collide(
+                model(i), coal.Transform3s(), model(j), coal.Transform3s(), request, result
+            ):
+                rules.excluded.add(pair)
+                found.append((bodies[pair[0]].name, bodies[pair[1]].name))
+    if found:
+        notes.append(
+            f"{len(found)} pair(s) of links touch (closer than {TOUCH_MARGIN:g} m) in the loaded "
+            f"configuration and never collide: {found}"
+        )

@@ -21,8 +21,8 @@ def plane_box_size(size: np.ndarray, extent: float) -> tuple[np.ndarray, np.ndar
     infinite = 10.0 * max(float(extent), 1.0)
     hx = float(size[0]) if size[0] > 0 else infinite
     hy = float(size[1]) if size[1] > 0 else infinite
-    t = 0.1 * min(hx, hy)
-    return np.array([hx, hy, t]), np.array([0.0, 0.0, -t])
+    thickness = 0.1 * min(hx, hy)
+    return np.array([hx, hy, 0.5 * thickness]), np.array([0.0, 0.0, -0.5 * thickness])
 
 
 def heightfield_surface(

@@ -10,7 +10,13 @@ MuJoCo compiles the file (``mujoco.MjModel.from_xml_path``); abdsim reads the co
   combination). A group whose root has a ``free`` joint is ``dynamic``; one on
   ``hinge``/``slide``/``ball`` joints is ``kinematic`` (:class:`abdsim.bridges.MjcfDriver`).
 * Every geom fixed to the world (on the world body or on a body welded to it) is its own
-  ``fixed`` body, in the geom's frame. ``plane`` geoms become :class:`Ground` planes.
+  ``fixed`` body, in the geom's frame. z-up ``plane`` geoms become :class:`Ground` planes;
+  other planes (walls, tilted) fixed thin boxes and height fields fixed closed solids
+  (``bridges/_mjcf_geoms.py``).
+* Contact follows MuJoCo's filter (contype/conaffinity, parent–child, ``<exclude>``,
+  ``<pair>``) and per-pair friction (max rule): ``LoadResult.contact_rules``
+  (``bridges/_contact_rules.py``). Tendons, equality constraints and actuators are named in
+  the notes (not simulated).
 * Geom shapes: box, sphere, capsule, cylinder, ellipsoid, mesh. MuJoCo re-centres and
   rotates meshes into their inertial frame and folds that into ``geom_pos/geom_quat``, so the
   vertices are ``geom pose × mesh_vert``. Note that MuJoCo collides with a mesh's convex hull

@@ -14,6 +14,11 @@ Kinds: the group on Pinocchio's universe joint (the root link of a fixed-base ro
 link fixed to it) is ``fixed``; the root of a floating-base robot (a free-flyer root joint) is
 ``dynamic``; every other group is ``kinematic`` and follows a joint trajectory through
 :class:`abdsim.bridges.RobotDriver`.
+
+Links joined by a joint never collide, nor SRDF ``disable_collisions`` pairs (``srdf=``), nor
+links that touch a moving body in the loaded configuration (``bridges/_contact_rules.py``). A
+group's inertia is checked after merging its fixed links; a degenerate one is bounded with a
+note (``bridges/_inertia_repair.py``). A URDF without any ``<collision>`` uses its visuals.
 """
 
 from __future__ import annotations
@@ -40,7 +45,7 @@ from abdsim.bridges._bodies import (
     transform_points,
     velocity_matrix,
 )
-from abdsim.bridges._contact_rules import urdf_rules
+from abdsim.bridges._contact_rules import exclude_touching, urdf_rules
 from abdsim.bridges._urdf_visual import visual_only
 
 _FREE_FLYER = "JointModelFreeFlyer"
@@ -191,6 +196,8 @@ def load_urdf(
         bodies.append(body)
     if not bodies:
         raise LoaderError(f"URDF {urdf} has no link with collision geometry: nothing to simulate")
+    rules = _contact_rules(bodies, srdf)
+    exclude_touching(bodies, rules, notes)  # bridges/_contact_rules.py
     for note in notes:
         warnings.warn(note, stacklevel=2)
     return LoadResult(
@@ -203,7 +210,7 @@ def load_urdf(
         q=q,
         source_map=body_of_joint,
         notes=notes,
-        contact_rules=_contact_rules(bodies, srdf),
+        contact_rules=rules,
     )
 
 

@@ -143,6 +143,20 @@ def test_every_example_robot_urdf_loads_and_steps(path):
     assert _simulate(result) > 0
 
 
+@pytest.mark.skipif(not HEAVY, reason="heavy: set ABDSIM_HEAVY_TESTS=1")
+@pytest.mark.parametrize("path", [pytest.param(p, id=_id(p)) for p in _urdfs()])
+def test_every_example_robot_urdf_loads_floating_and_steps(path):
+    """With a free-flyer root the trunk is dynamic: links touching it must not block the load."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if path.name in REJECTED:
+            with pytest.raises(LoaderError, match=path.name.replace(".", r"\.")):
+                load_urdf(path, floating_base=True)
+            return
+        result = load_urdf(path, floating_base=True)
+    assert _simulate(result) > 0
+
+
 @pytest.mark.parametrize("path", _params(_suite_xmls()))
 def test_every_dm_control_suite_xml_loads_and_steps(path):
     with warnings.catch_warnings():
