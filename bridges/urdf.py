@@ -152,7 +152,7 @@ def load_urdf(
                     f"no collision geometry: no {what} body is made for it"
                 )
                 if what == "dynamic":
-                    raise LoaderError(note)
+                    raise LoaderError(f"URDF {urdf.name}: {note}")
                 notes.append(note)
             continue
         name = model.frames[int(geoms[0].parentFrame)].name

@@ -71,3 +71,23 @@ def test_small_round_primitives_are_closed_and_exact_in_size(kind, radius):
     if kind != "sphere":
         half = 0.01 + (radius if kind == "capsule" else 0.0)
         assert np.ptp(v[:, 2]) == pytest.approx(2 * half, rel=1e-12)
+
+
+def test_urdf_repairs_are_noted_and_warned_once():
+    """Hull notes printed twice before (once by the repair, once by the loader)."""
+    if ROBOTS is None:
+        pytest.skip("example-robot-data is not installed")
+    import warnings
+
+    from abdsim.bridges import load_urdf
+
+    path = ROBOTS / "z1_description/urdf/z1.urdf"
+    if not path.is_file():
+        pytest.skip(f"{path} not shipped by this example-robot-data")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = load_urdf(path)
+    messages = [str(w.message) for w in caught if issubclass(w.category, UserWarning)]
+    assert sorted(messages) == sorted(res.notes)
+    assert len(set(messages)) == len(messages)
+    assert any("gripperStator" in n and "convex hull" in n for n in res.notes)
