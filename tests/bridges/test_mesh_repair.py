@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 import trimesh
 from scipy.spatial import ConvexHull, cKDTree
 
+from abdsim.bridges import load_urdf
 from abdsim.bridges._bodies import closed_surface, primitive_surface
 from abdsim.bridges._mesh_repair import closed_hull, drop_zero_area, is_proper_closed
 from abdsim.geometry import validation as mesh_check
@@ -14,13 +17,19 @@ from abdsim.geometry import validation as mesh_check
 from .conftest import ROBOTS
 
 
-def test_hull_of_a_dense_real_mesh_is_closed_with_the_hull_volume():
-    """z1's gripper stator: trimesh's hull of its 21,745 points came out open (9 edges)."""
+def _z1_file(relative: str):
+    """A file of example-robot-data's z1 description, else skip."""
     if ROBOTS is None:
         pytest.skip("example-robot-data is not installed")
-    path = ROBOTS / "z1_description/meshes/collision/z1_GripperStator.STL"
+    path = ROBOTS / "z1_description" / relative
     if not path.is_file():
         pytest.skip(f"{path} not shipped by this example-robot-data")
+    return path
+
+
+def test_hull_of_a_dense_real_mesh_is_closed_with_the_hull_volume():
+    """z1's gripper stator: trimesh's hull of its 21,745 points came out open (9 edges)."""
+    path = _z1_file("meshes/collision/z1_GripperStator.STL")
     points = np.asarray(trimesh.load(path, force="mesh").vertices)
     v, f = closed_hull("stator", points)
     mesh_check.check_closed_oriented(f)
@@ -75,15 +84,7 @@ def test_small_round_primitives_are_closed_and_exact_in_size(kind, radius):
 
 def test_urdf_repairs_are_noted_and_warned_once():
     """Hull notes printed twice before (once by the repair, once by the loader)."""
-    if ROBOTS is None:
-        pytest.skip("example-robot-data is not installed")
-    import warnings
-
-    from abdsim.bridges import load_urdf
-
-    path = ROBOTS / "z1_description/urdf/z1.urdf"
-    if not path.is_file():
-        pytest.skip(f"{path} not shipped by this example-robot-data")
+    path = _z1_file("urdf/z1.urdf")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         res = load_urdf(path)
