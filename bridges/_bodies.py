@@ -18,6 +18,8 @@ import numpy as np
 import trimesh
 
 import abdsim
+from abdsim.bridges._inertia_repair import bound_inertia, is_degenerate, surface_size
+from abdsim.bridges._mesh_repair import closed_hull, drop_zero_area, is_proper_closed
 from abdsim.geometry import validation as mesh_check
 
 #: How a loaded body moves: ``fixed`` never moves (``is_fixed = 1``), ``kinematic`` follows a
@@ -126,6 +128,9 @@ class LoadResult:
         notes: what was skipped or approximated while loading (also issued as warnings).
         sensors: the source's sensors (``abdsim.sim.sensors.SensorSpec``, MJCF ``<sensor>``),
             added to :attr:`scene`'s ``sensors``.
+        contact_rules: the source's pairwise contact filter and friction
+            (``abdsim.bridges._contact_rules.ContactRules``; None: every pair collides), written
+            into the scene's ``contact_table`` with body ``i`` as contact element ``i``.
     """
 
     source: Path
@@ -141,6 +146,7 @@ class LoadResult:
     source_map: dict[int, int] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     sensors: list[Any] = field(default_factory=list)
+    contact_rules: Any = None
     _scene: Any = field(default=None, repr=False)
 
     # -- lookup -------------------------------------------------------------------------------
@@ -239,12 +245,17 @@ def primitive_surface(kind: str, size: Sequence[float], name: str) -> tuple[np.n
         raise LoaderError(f"geometry {name!r}: {kind} size must be positive, got {s}")
     if kind == "box":
         sc = abdsim.geometry.box((2 * s[0], 2 * s[1], 2 * s[2]))
-    elif kind == "sphere":
-        sc = abdsim.geometry.sphere(s[0], subdivisions=2)
-    elif kind == "capsule":
-        sc = abdsim.geometry.capsule(s[0], 2 * s[1])
-    elif kind == "cylinder":
-        sc = abdsim.geometry.cylinder(s[0], 2 * s[1])
+    elif kind in ("sphere", "capsule", "cylinder"):
+        # Round shapes are tessellated at unit radius and scaled: built at their own size, a
+        # radius <= 1 mm merged vertices at the tessellator's absolute tolerance (open mesh).
+        r = s[0]
+        if kind == "sphere":
+            sc = abdsim.geometry.sphere(1.0, subdivisions=2)
+        elif kind == "capsule":
+            sc = abdsim.geometry.capsule(1.0, 2 * s[1] / r)
+        else:
+            sc = abdsim.geometry.cylinder(1.0, 2 * s[1] / r)
+        return sc.positions * r, sc.triangles.copy()
     elif kind == "ellipsoid":
         unit = abdsim.geometry.sphere(1.0, subdivisions=2)
         return unit.positions * np.asarray(s[:3]), unit.triangles.copy()
@@ -258,27 +269,28 @@ def closed_surface(
 ) -> tuple[np.ndarray, np.ndarray]:
     """The mesh itself if it is a closed, outward-oriented surface; else repaired or rejected.
 
-    Repairs, in order: merge duplicate vertices (STL-style triangle soups); fix winding and
-    orientation; then, if ``open_mesh == "hull"``, the convex hull (a warning says so).
+    Repairs, in order: drop zero-area triangles (a note); merge duplicate vertices (STL-style
+    triangle soups); fix winding and orientation; then, if ``open_mesh == "hull"``, the closed
+    convex hull (a note says so; the loader warns once per note).
     """
     v = np.asarray(vertices, dtype=np.float64)
-    f = np.asarray(triangles, dtype=np.int64)
+    f = drop_zero_area(name, v, triangles, notes)
     if _is_closed_outward(v, f):
         return v, f
     mesh = trimesh.Trimesh(v, f, process=True, validate=True)
     if mesh.is_watertight:
         trimesh.repair.fix_normals(mesh)
         if mesh.is_winding_consistent and mesh.volume > 0:
-            return np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.faces)
+            repaired = np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.faces)
+            if is_proper_closed(*repaired):  # merging vertices can leave zero-area slivers
+                return repaired
     if open_mesh == "hull":
-        hull = trimesh.Trimesh(v, f, process=False).convex_hull
-        note = (
+        # The loader warns once for every note (bridges/_mesh_repair.py: a closed hull).
+        notes.append(
             f"geometry {name!r} is not a closed surface ({len(f)} triangles): using its convex "
             "hull as the body's surface"
         )
-        warnings.warn(note, stacklevel=4)
-        notes.append(note)
-        return np.asarray(hull.vertices, dtype=np.float64), np.asarray(hull.faces)
+        return closed_hull(name, v)
     raise LoaderError(
         f"geometry {name!r} is not a closed, consistently oriented surface (an affine body "
         "needs a solid); pass open_mesh='hull' to use its convex hull"
@@ -319,11 +331,13 @@ def make_body(
     joint: str | None = None,
     friction: float | None = None,
     mass_density: float = 1e3,
+    notes: list[str] | None = None,
 ) -> LoadedBody:
     """Build one body: merged surfaces, constitution, exact mass properties, pose, velocity.
 
     ``mass = (m, centre, inertia about centre)`` in the body frame; None gives the mass of
-    the surface at ``mass_density`` (used for fixed bodies, whose mass plays no role).
+    the surface at ``mass_density`` (used for fixed bodies, whose mass plays no role). A
+    moving body whose inertia is degenerate gets ``bound_inertia`` and a line in ``notes``.
     """
     if kind not in BODY_KINDS:
         raise ValueError(f"body kind must be one of {BODY_KINDS}, got {kind!r}")
@@ -343,6 +357,20 @@ def make_body(
         raise LoaderError(f"body {name!r} (geoms {[s.name for s in surfaces]}): {e}") from e
     if mass is not None:
         m, c, inertia = mass
+        if kind == "fixed" and is_degenerate(inertia):
+            mass = None  # a fixed body's mass plays no role: keep its surface's
+        elif is_degenerate(inertia) or not m > 0:
+            # A moving group still degenerate after merging its fixed links: bounded
+            # (bridges/_inertia_repair.py), never a refusal of the robot.
+            m, inertia = bound_inertia(m, inertia, surface_size([s.vertices for s in surfaces]))
+            note = (
+                f"body {name!r} (links {list(links) or [name]}): degenerate inertia "
+                f"(mass {mass[0]:g} kg, moments {np.linalg.eigvalsh(mass[2]).tolist()}); "
+                f"bounded to principal moments {np.linalg.eigvalsh(inertia).tolist()}"
+            )
+            if notes is not None:
+                notes.append(note)
+    if mass is not None:
         try:
             abdsim.constitution.check_inertia(
                 np.asarray(inertia, dtype=np.float64), what=f"inertia of body {name!r}"

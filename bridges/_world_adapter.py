@@ -77,11 +77,14 @@ def build_scene(result: Any, **settings: Any) -> Any:
     # Kinematic links declared as such up front, where the Scene supports it: contact then
     # ignores link-link overlaps (which joints make common) from the initial check on.
     add_kinematic = "kinematic" in inspect.signature(scene.add).parameters
+    rules = getattr(result, "contact_rules", None)
     for i, body in enumerate(result.bodies):
+        # With contact rules every body is its own contact element (bridges/_contact_rules.py).
+        extra = {"contact_element": i} if rules is not None else {}
         if add_kinematic:
-            handle = scene.add(body.geometry, kinematic=body.kind == "kinematic")
+            handle = scene.add(body.geometry, kinematic=body.kind == "kinematic", **extra)
         else:
-            handle = scene.add(body.geometry)
+            handle = scene.add(body.geometry, **extra)
         start = getattr(handle, "start", i)
         if start != i:  # pragma: no cover - a fresh scene numbers bodies from 0
             raise RuntimeError(f"body {body.name!r} got index {start}, expected {i}")
@@ -95,6 +98,8 @@ def build_scene(result: Any, **settings: Any) -> Any:
                 "z-up ground is supported"
             )
         add_ground(float(ground.height))
+    if rules is not None:
+        rules.apply(scene, len(result.bodies))
     if getattr(result, "sensors", None) and hasattr(scene, "sensors"):
         scene.sensors.extend(result.sensors)
     _SOURCES[scene] = result

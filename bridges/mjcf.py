@@ -10,7 +10,13 @@ MuJoCo compiles the file (``mujoco.MjModel.from_xml_path``); abdsim reads the co
   combination). A group whose root has a ``free`` joint is ``dynamic``; one on
   ``hinge``/``slide``/``ball`` joints is ``kinematic`` (:class:`abdsim.bridges.MjcfDriver`).
 * Every geom fixed to the world (on the world body or on a body welded to it) is its own
-  ``fixed`` body, in the geom's frame. ``plane`` geoms become :class:`Ground` planes.
+  ``fixed`` body, in the geom's frame. z-up ``plane`` geoms become :class:`Ground` planes;
+  other planes (walls, tilted) fixed thin boxes and height fields fixed closed solids
+  (``bridges/_mjcf_geoms.py``).
+* Contact follows MuJoCo's filter (contype/conaffinity, parent–child, ``<exclude>``,
+  ``<pair>``) and per-pair friction (max rule): ``LoadResult.contact_rules``
+  (``bridges/_contact_rules.py``). Tendons, equality constraints and actuators are named in
+  the notes (not simulated).
 * Geom shapes: box, sphere, capsule, cylinder, ellipsoid, mesh. MuJoCo re-centres and
   rotates meshes into their inertial frame and folds that into ``geom_pos/geom_quat``, so the
   vertices are ``geom pose × mesh_vert``. Note that MuJoCo collides with a mesh's convex hull
@@ -47,6 +53,9 @@ from abdsim.bridges._bodies import (
     transform_points,
     velocity_matrix,
 )
+from abdsim.bridges._contact_rules import mjcf_rules
+from abdsim.bridges._mjcf_geoms import heightfield_surface, plane_box_size
+from abdsim.bridges._mjcf_unsupported import unsimulated_notes
 
 _PRIMITIVES = {"box": 3, "sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3}
 
@@ -103,6 +112,10 @@ def load_mjcf(
     from abdsim.bridges.mjcf_sensors import read_sensors
 
     sensors = read_sensors(loader, source_map)
+    # MuJoCo's collision filter and per-pair friction (bridges/_contact_rules.py).
+    geom_ids = {loader.geom_name(g): g for g in range(model.ngeom)}
+    rules = mjcf_rules(mujoco, model, bodies, geom_ids, [geom_ids[gr.name] for gr in grounds])
+    loader.notes.extend(unsimulated_notes(mujoco, model))  # bridges/_mjcf_unsupported.py
     for note in loader.notes:
         warnings.warn(note, stacklevel=2)
     if not bodies and not grounds:
@@ -120,6 +133,7 @@ def load_mjcf(
         source_map=source_map,
         notes=loader.notes,
         sensors=sensors,
+        contact_rules=rules,
     )
 
 
@@ -193,6 +207,16 @@ class _MjcfLoader:
         kind, name = self.geom_type(g), self.geom_name(g)
         if kind in _PRIMITIVES:
             return primitive_surface(kind, self.m.geom_size[g][: _PRIMITIVES[kind]], name)
+        if kind == "plane":  # a wall (bridges/_mjcf_geoms.py): a fixed thin box
+            half, centre = plane_box_size(self.m.geom_size[g], float(self.m.stat.extent))
+            v, f = primitive_surface("box", half, name)
+            return v + centre, f
+        if kind == "hfield":
+            h = int(self.m.geom_dataid[g])
+            nrow, ncol = int(self.m.hfield_nrow[h]), int(self.m.hfield_ncol[h])
+            adr = int(self.m.hfield_adr[h])
+            data = self.m.hfield_data[adr : adr + nrow * ncol]
+            return heightfield_surface(nrow, ncol, self.m.hfield_size[h], data)
         mesh = int(self.m.geom_dataid[g])
         va, vn = int(self.m.mesh_vertadr[mesh]), int(self.m.mesh_vertnum[mesh])
         fa, fn = int(self.m.mesh_faceadr[mesh]), int(self.m.mesh_facenum[mesh])
@@ -216,13 +240,21 @@ class _MjcfLoader:
             if kind == "plane" and root == 0:
                 n = np.array(self.d.geom_xmat[g]).reshape(3, 3)[:, 2]
                 height = float(n @ self.d.geom_xpos[g])
-                grounds.append(Ground(height, n, self.geom_name(g), float(m.geom_friction[g, 0])))
-                continue
-            if kind not in _PRIMITIVES and kind != "mesh":
+                if np.allclose(n, [0.0, 0.0, 1.0], atol=1e-12) and all(
+                    gr.height == height for gr in grounds
+                ):
+                    friction = float(m.geom_friction[g, 0])
+                    grounds.append(Ground(height, n, self.geom_name(g), friction))
+                    continue
+                self.notes.append(
+                    f"plane {self.geom_name(g)!r} (normal {n.round(6).tolist()}) is not the z-up "
+                    "ground: it becomes a fixed thin box under its rectangle"
+                )
+            if kind not in _PRIMITIVES and kind not in ("mesh", "hfield", "plane"):
                 msg = (
                     f"geom {self.geom_name(g)!r} (body {self.body_name(b)!r}): unsupported geom "
-                    f"type {kind!r} (supported: {sorted(_PRIMITIVES)}, mesh, and plane on the "
-                    "world body)"
+                    f"type {kind!r} (supported: {sorted(_PRIMITIVES)}, mesh, hfield, and plane "
+                    "on the world body)"
                 )
                 if not skip_unsupported:
                     raise LoaderError(msg)
@@ -323,6 +355,7 @@ class _MjcfLoader:
                     links=names,
                     joint=joint,
                     friction=float(max(m.geom_friction[g, 0] for g in geoms)),
+                    notes=self.notes,
                 )
             )
         joints = []

@@ -14,6 +14,11 @@ Kinds: the group on Pinocchio's universe joint (the root link of a fixed-base ro
 link fixed to it) is ``fixed``; the root of a floating-base robot (a free-flyer root joint) is
 ``dynamic``; every other group is ``kinematic`` and follows a joint trajectory through
 :class:`abdsim.bridges.RobotDriver`.
+
+Links joined by a joint never collide, nor SRDF ``disable_collisions`` pairs (``srdf=``), nor
+links that touch a moving body in the loaded configuration (``bridges/_contact_rules.py``). A
+group's inertia is checked after merging its fixed links; a degenerate one is bounded with a
+note (``bridges/_inertia_repair.py``). A URDF without any ``<collision>`` uses its visuals.
 """
 
 from __future__ import annotations
@@ -41,6 +46,8 @@ from abdsim.bridges._bodies import (
     transform_points,
     velocity_matrix,
 )
+from abdsim.bridges._contact_rules import exclude_touching, urdf_rules
+from abdsim.bridges._urdf_visual import visual_only
 
 _FREE_FLYER = "JointModelFreeFlyer"
 
@@ -56,6 +63,7 @@ def load_urdf(
     constitution: str = "OrthoPotential",
     mass_density: float | None = None,
     open_mesh: str = "hull",
+    srdf: str | os.PathLike | None = None,
 ) -> LoadResult:
     """Load a URDF robot as affine bodies placed at configuration ``q``.
 
@@ -74,6 +82,8 @@ def load_urdf(
             of its surface at this density instead of raising.
         open_mesh: what to do with a mesh that is not a closed surface: ``"hull"`` (use its
             convex hull, with a warning) or ``"error"``.
+        srdf: an SRDF file whose ``<disable_collisions>`` pairs never collide (links joined
+            by a joint never do either).
 
     Returns:
         A :class:`LoadResult`; ``result.model`` is the ``pinocchio.Model``,
@@ -95,14 +105,19 @@ def load_urdf(
     _check_tree(root, urdf)
     link_mass = _check_inertials(root, urdf)
     collisions = _check_collision_meshes(root, urdf, dirs)
+    notes: list[str] = []
+    geometry_type = pin.GeometryType.COLLISION
+    visual = visual_only(root, urdf)
+    if visual is not None:  # bridges/_urdf_visual.py
+        collisions, note = visual
+        notes.append(note)
+        geometry_type = pin.GeometryType.VISUAL
 
     kwargs = {"package_dirs": [str(d) for d in dirs]}
     if floating_base:
         kwargs["root_joint"] = pin.JointModelFreeFlyer()
     try:
-        built = pin.buildModelsFromUrdf(
-            str(urdf), geometry_types=[pin.GeometryType.COLLISION], **kwargs
-        )
+        built = pin.buildModelsFromUrdf(str(urdf), geometry_types=[geometry_type], **kwargs)
     except (ValueError, RuntimeError, OSError) as e:
         raise LoaderError(f"Pinocchio could not load URDF {urdf}: {e}") from e
     model, collision_model = built[0], built[1]
@@ -112,7 +127,6 @@ def load_urdf(
     v = np.zeros(model.nv) if v is None else _configuration(pin, model, v, "v", model.nv)
     kin = joint_kinematics(pin, model, q, v)
 
-    notes: list[str] = []
     geoms_of: dict[int, list] = {}
     for g in collision_model.geometryObjects:
         geoms_of.setdefault(int(g.parentJoint), []).append(g)
@@ -141,7 +155,7 @@ def load_urdf(
                     f"no collision geometry: no {what} body is made for it"
                 )
                 if what == "dynamic":
-                    raise LoaderError(note)
+                    raise LoaderError(f"URDF {urdf.name}: {note}")
                 notes.append(note)
             continue
         name = model.frames[int(geoms[0].parentFrame)].name
@@ -154,7 +168,15 @@ def load_urdf(
             mass = _joint_mass(model, 0, links, link_mass, mass_density or 1e3)
         else:
             kind = "dynamic" if _is_floating_root(model, j) else "kinematic"
-            mass = _joint_mass(model, j, links, link_mass, mass_density)
+            if model.inertias[j].mass <= 0 and mass_density is None:
+                # A moving group without mass is repaired, never refused: its surface's mass.
+                missing = [n for n in links if link_mass.get(n) is None]
+                notes.append(
+                    f"joint {model.names[j]!r} (links {links}) has collision geometry but no "
+                    f"mass (links without <inertial>: {missing}): using its geometry's mass at "
+                    "1000 kg/m^3 (pass mass_density= to choose the density)"
+                )
+            mass = _joint_mass(model, j, links, link_mass, mass_density or 1e3)
         oMi, vj = kin.oMi[j], kin.v[j]
         R = np.array(oMi.rotation)
         velocity = velocity_matrix(R, R @ vj.angular, R @ vj.linear)
@@ -170,12 +192,15 @@ def load_urdf(
             links=links,
             joint=model.names[j] if j > 0 else None,
             mass_density=mass_density or 1e3,
+            notes=notes,
         )
         body.parent = _parent_body(model, j, body_of_joint)
         body_of_joint[j] = len(bodies)
         bodies.append(body)
     if not bodies:
         raise LoaderError(f"URDF {urdf} has no link with collision geometry: nothing to simulate")
+    rules = _contact_rules(bodies, srdf)
+    exclude_touching(bodies, rules, notes)  # bridges/_contact_rules.py
     for note in notes:
         warnings.warn(note, stacklevel=2)
     return LoadResult(
@@ -188,6 +213,7 @@ def load_urdf(
         q=q,
         source_map=body_of_joint,
         notes=notes,
+        contact_rules=rules,
     )
 
 
@@ -317,8 +343,6 @@ def _float_attr(elem: ET.Element, key: str, where: str) -> float:
 
 def _check_inertials(root: ET.Element, urdf: Path) -> dict[str, float | None]:
     """Each link's URDF mass (None: no <inertial>); non-physical inertials raise."""
-    from abdsim.constitution import check_inertia
-
     masses: dict[str, float | None] = {}
     for link in root.iter("link"):
         name = link.get("name", "?")
@@ -352,16 +376,15 @@ def _check_inertials(root: ET.Element, urdf: Path) -> dict[str, float | None]:
         )
         if not np.isfinite(tensor).all():
             raise LoaderError(f"{where}: inertia has non-finite entries")
-        try:
-            check_inertia(tensor, what=f"{where}: inertia")
-        except ValueError as e:
-            raise LoaderError(str(e)) from e
+        # A link's own inertia may be degenerate (a point mass on a sensor frame): only the
+        # rigid group it joins must be physical, checked (and bounded) in make_body.
     return masses
 
 
 def _resolve_mesh(filename: str, urdf: Path, dirs: Sequence[Path]) -> Path | None:
     if filename.startswith("package://"):
-        rest = filename[len("package://") :]
+        # "package:///a/b" (an empty package name, talos_full_v2) is "a/b" under a package dir.
+        rest = filename[len("package://") :].lstrip("/")
         for d in dirs:
             candidate = d / rest
             if candidate.is_file():
@@ -549,3 +572,14 @@ def _geometry_surface(pin, g, model, open_mesh: str, notes: list[str]) -> Surfac
             f"(mesh path {g.meshPath!r})"
         )
     return Surface(g.name, transform_points(np.array(g.placement.homogeneous), v), f)
+
+
+def _contact_rules(bodies, srdf):
+    """Adjacent links and the SRDF's pairs never collide (bridges/_contact_rules.py)."""
+    if srdf is None:
+        return urdf_rules(bodies)
+    path = check_file(srdf, "SRDF", (".srdf", ".xml"))
+    try:
+        return urdf_rules(bodies, path)
+    except ValueError as e:
+        raise LoaderError(str(e)) from e

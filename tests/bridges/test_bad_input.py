@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import shutil
+import warnings
 
 import numpy as np
 import pytest
@@ -63,16 +64,45 @@ def test_unsupported_geometry_names_link(tmp_path):
 
 
 @pytest.mark.parametrize(
-    ("inertia", "match"),
+    ("inertia", "expected"),
     [
-        ({"ixx": -0.01}, "not positive definite"),
-        ({"ixx": 0.01, "iyy": 0.01, "izz": 0.05}, "triangle inequality"),
+        # Principal moments λ -> second moments Σ_i = (λ_j + λ_k - λ_i)/2, each raised to
+        # m (0.01 L)² = 3e-6 (L = the 0.1 m cube's diagonal), then λ_i = Σ_j + Σ_k.
+        ({"ixx": -0.01}, [6e-6, 0.015003, 0.015003]),
+        ({"ixx": 0.01, "iyy": 0.01, "izz": 0.05}, [0.025003, 0.025003, 0.05]),
     ],
 )
-def test_non_physical_inertia_names_link(tmp_path, inertia, match):
+def test_degenerate_link_inertia_is_bounded_with_a_note(tmp_path, inertia, expected):
     path = urdf(tmp_path, link("base"), link("arm", **inertia), joints=revolute("base", "arm"))
-    with pytest.raises(LoaderError, match=rf"link 'arm'.*{match}"):
-        load_urdf(path)
+    with pytest.warns(UserWarning, match=r"body 'arm' \(links \['arm'\]\): degenerate inertia"):
+        res = load_urdf(path)
+    moments = np.linalg.eigvalsh(res.bodies[res.index("arm")].geometry.meta["inertia"])
+    np.testing.assert_allclose(moments, expected, rtol=1e-9)
+    assert any("degenerate inertia" in n and "'arm'" in n for n in res.notes)
+
+
+def test_point_mass_link_is_checked_in_its_group_not_alone(tmp_path):
+    """A sensor frame's point mass (zero inertia) fixed to a link: the group is physical."""
+    sensor = (
+        '<link name="sensor"><inertial><origin xyz="0.05 0 0"/><mass value="0.01"/>'
+        '<inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial></link>'
+        '<joint name="fix" type="fixed"><parent link="arm"/><child link="sensor"/></joint>'
+    )
+    path = urdf(tmp_path, link("base"), link("arm"), sensor, joints=revolute("base", "arm"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no repair, no note
+        res = load_urdf(path)
+    body = res.bodies[res.index("arm")]
+    assert "sensor" in body.links
+    # Exact combination (parallel axes): m = 1.01, c = 0.01*0.05/1.01 along x.
+    m, cx = 1.01, 0.01 * 0.05 / 1.01
+    d_arm, d_sensor = cx, 0.05 - cx
+    expected = np.diag([0.01, 0.01 + d_arm**2 + 0.01 * d_sensor**2, 0.0])
+    expected[2, 2] = expected[1, 1]
+    assert body.geometry.meta["mass"] == pytest.approx(m, rel=1e-12)
+    np.testing.assert_allclose(body.geometry.meta["mass_center"], [cx, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(body.geometry.meta["inertia"], expected, rtol=1e-9, atol=1e-15)
+    assert not res.notes
 
 
 def test_negative_mass_names_link(tmp_path):
@@ -87,12 +117,13 @@ def test_moving_link_with_geometry_but_no_inertial(tmp_path):
         "</collision></link>"
     )
     path = urdf(tmp_path, link("base"), bare, joints=revolute("base", "arm"))
-    with pytest.raises(
-        LoaderError, match=r"links \['arm'\].*no mass.*without <inertial>: \['arm'\]"
-    ):
-        load_urdf(path)
-    res = load_urdf(path, mass_density=500.0)  # ... or its geometry's mass, when asked
+    # Repaired, not refused: the geometry's mass at 1000 kg/m^3, with a note naming the link.
+    with pytest.warns(UserWarning, match=r"links \['arm'\].*no mass.*without <inertial>"):
+        res = load_urdf(path)
+    assert res.bodies[1].geometry.meta["mass"] == pytest.approx(1000.0 * 1e-3)
+    res = load_urdf(path, mass_density=500.0)  # ... or at the density asked for
     assert res.bodies[1].geometry.meta["mass"] == pytest.approx(500.0 * 1e-3)
+    assert not any("no mass" in n for n in res.notes)
 
 
 def test_link_with_mass_but_no_geometry_is_reported(tmp_path):
@@ -175,20 +206,6 @@ def test_missing_mesh_file_in_mjcf(tmp_path):
     )
     with pytest.raises(FileNotFoundError, match="gone.stl"):
         load_mjcf(path)
-
-
-def test_unsupported_geom_type(tmp_path):
-    path = mjcf(
-        tmp_path,
-        '<geom name="terrain" type="hfield" hfield="h"/>'
-        '<body><freejoint/><geom size="0.1"/></body>',
-        assets='<hfield name="h" nrow="3" ncol="3" size="1 1 0.1 0.1"/>',
-    )
-    with pytest.raises(LoaderError, match=r"geom 'terrain'.*unsupported geom type 'hfield'"):
-        load_mjcf(path)
-    with pytest.warns(UserWarning, match="skipped"):
-        res = load_mjcf(path, skip_unsupported=True)
-    assert len(res.bodies) == 1
 
 
 def test_plane_on_a_moving_body_is_refused_naming_it(tmp_path):

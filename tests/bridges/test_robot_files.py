@@ -1,0 +1,172 @@
+"""Every real robot file loads, builds a World and steps without intersection (issue 11).
+
+Walks every URDF of the installed example-robot-data and every dm_control suite XML (the
+``dm_control`` package of the test extra; skipped with a message when missing). A file that
+Pinocchio itself rejects, or that has no geometry at all, must fail with a LoaderError naming
+the file. The steps' gaps are abdsim's; at the end coal checks, independently, that no pair
+of bodies that may touch (one of them moving) intersects.
+
+Files whose load takes long (dense meshes) are the heavy part: run with ABDSIM_HEAVY_TESTS=1.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from abdsim.bridges import LoaderError, load_mjcf, load_urdf
+
+from .conftest import ROBOTS
+
+STEPS = 100
+HEAVY = os.environ.get("ABDSIM_HEAVY_TESTS") == "1"
+#: Files whose load (mesh repair, hulls of dense meshes) takes about a second or more here.
+HEAVY_FILES = {
+    "TwoDofs.urdf",
+    "alex_nub_hands.urdf",
+    "alex_psyonic_hands.urdf",
+    "alex_sake_hands.urdf",
+    "anymal-kinova.urdf",
+    "borinot_flying_arm_2.urdf",
+    "centauro.urdf",
+    "g1_29dof_rev_1_0.urdf",
+    "g1_29dof_with_hand_rev_1_0.urdf",
+    "human.urdf",
+    "kinova.urdf",
+    "romeo.urdf",
+    "romeo_small.urdf",
+    "so101.urdf",
+    "tiago_pro.urdf",
+    "ur3_gripper.urdf",
+    "ur3_joint_limited_robot.urdf",
+    "ur3_robot.urdf",
+    "dog.xml",
+}
+#: Files that are not loadable robots, with what the error must say.
+REJECTED = {
+    "ur3.urdf": "has no <link>",  # an empty xacro leftover: Pinocchio rejects it too
+    "simple_humanoid_classical.urdf": "no link with collision geometry",  # no geometry at all
+}
+
+
+def _urdfs() -> list[Path]:
+    return sorted(ROBOTS.glob("**/*.urdf")) if ROBOTS is not None else []
+
+
+def _suite_xmls() -> list[Path]:
+    try:
+        import dm_control
+    except ImportError:
+        return []
+    return sorted((Path(dm_control.__file__).parent / "suite").glob("*.xml"))
+
+
+def _id(p: Path) -> str:
+    return f"{p.parent.parent.name}/{p.name}"
+
+
+def _params(paths: list[Path]) -> list:
+    marks = lambda p: (  # noqa: E731
+        [pytest.mark.skipif(not HEAVY, reason="heavy file: set ABDSIM_HEAVY_TESTS=1")]
+        if p.name in HEAVY_FILES
+        else []
+    )
+    return [pytest.param(p, id=_id(p), marks=marks(p)) for p in paths]
+
+
+def _simulate(result) -> float:
+    """STEPS steps; the smallest gap abdsim saw (inf: no contact pair came near)."""
+    world = result.make_world()
+    gap = np.inf
+    for _ in range(STEPS):
+        world.step(1)
+        gap = min(gap, world.diagnostics.min_contact_distance)
+    _assert_no_intersection(result, world)
+    return gap
+
+
+def _assert_no_intersection(result, world) -> None:
+    """coal: no pair that may touch (at least one body moving) intersects at the end."""
+    import coal
+
+    moving = [i for i, b in enumerate(result.bodies) if b.kind == "dynamic"]
+    if not moving:
+        return
+    rules = result.contact_rules
+    T = np.asarray(world.transforms())
+    models = {}
+
+    def model(i):
+        # World vertices of the affine map (not a rigid pose), at an identity placement.
+        if i not in models:
+            g = result.bodies[i].geometry
+            V = np.asarray(g.positions) @ T[i][:3, :3].T + T[i][:3, 3]
+            m = coal.BVHModelOBBRSS()
+            m.beginModel(len(g.triangles), len(V))
+            m.addVertices(np.ascontiguousarray(V, dtype=float))
+            m.addTriangles(np.ascontiguousarray(g.triangles, dtype=np.int64))
+            m.endModel()
+            models[i] = m
+        return models[i]
+
+    for i in moving:
+        for j in range(len(result.bodies)):
+            if j == i or (j in moving and j < i):
+                continue
+            if rules is not None and (min(i, j), max(i, j)) in rules.excluded:
+                continue
+            req, res = coal.CollisionRequest(), coal.CollisionResult()
+            if coal.collide(model(i), coal.Transform3s(), model(j), coal.Transform3s(), req, res):
+                pytest.fail(
+                    f"{result.source.name}: bodies {result.bodies[i].name!r} and "
+                    f"{result.bodies[j].name!r} intersect after {STEPS} steps"
+                )
+
+
+@pytest.mark.parametrize("path", _params(_urdfs()))
+def test_every_example_robot_urdf_loads_and_steps(path):
+    if ROBOTS is None:
+        pytest.skip("example-robot-data is not installed")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if path.name in REJECTED:
+            with pytest.raises(LoaderError, match=REJECTED[path.name]) as err:
+                load_urdf(path)
+            assert path.name in str(err.value)
+            return
+        result = load_urdf(path)
+    assert len(result.bodies) >= 1
+    assert _simulate(result) > 0
+
+
+@pytest.mark.skipif(not HEAVY, reason="heavy: set ABDSIM_HEAVY_TESTS=1")
+@pytest.mark.parametrize("path", [pytest.param(p, id=_id(p)) for p in _urdfs()])
+def test_every_example_robot_urdf_loads_floating_and_steps(path):
+    """With a free-flyer root the trunk is dynamic: links touching it must not block the load."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if path.name in REJECTED:
+            with pytest.raises(LoaderError, match=path.name.replace(".", r"\.")):
+                load_urdf(path, floating_base=True)
+            return
+        result = load_urdf(path, floating_base=True)
+    assert _simulate(result) > 0
+
+
+@pytest.mark.parametrize("path", _params(_suite_xmls()))
+def test_every_dm_control_suite_xml_loads_and_steps(path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = load_mjcf(path)
+    assert _simulate(result) > 0
+
+
+def test_dm_control_suite_is_present():
+    """Says why the suite walk found no file, instead of passing silently."""
+    if not _suite_xmls():
+        pytest.skip("dm_control is not installed (pip install dm_control): suite not walked")
+    assert len(_suite_xmls()) >= 19
