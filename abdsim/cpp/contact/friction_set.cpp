@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "contact/friction/friction_potential.h"
+#include "contact/lagged_compare.h"
 
 namespace abd::contact {
 
@@ -29,15 +30,11 @@ std::vector<FrictionStencil> lag_friction(const ActiveSet& set, const std::vecto
 
 bool same_friction(const std::vector<FrictionStencil>& a, const std::vector<FrictionStencil>& b,
                    double rtol) {
-  if (a.size() != b.size()) return false;
-  double largest = 0.0;
-  for (const FrictionStencil& f : a) largest = std::max(largest, f.mu_lambda);
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    if (a[i].nv != b[i].nv || a[i].vertices != b[i].vertices) return false;
-    if (std::abs(a[i].mu_lambda - b[i].mu_lambda) > rtol * largest) return false;
-    if ((a[i].basis - b[i].basis).cwiseAbs().maxCoeff() > rtol) return false;
-  }
-  return true;
+  return same_lagged(
+      a, b, rtol, [](const FrictionStencil& f) { return f.mu_lambda; },
+      [](const FrictionStencil& f, const FrictionStencil& g) {
+        return (f.basis - g.basis).cwiseAbs().maxCoeff();
+      });
 }
 
 StencilEnergy friction_energy(const FrictionStencil& f, const std::vector<Vec3>& x, double eps,
