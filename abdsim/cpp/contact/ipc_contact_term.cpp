@@ -187,15 +187,9 @@ void IpcContactTerm::lag_dissipation() {
 
 bool IpcContactTerm::refresh_lagged(const VecX& q) {
   if (active_.q.size() != q.size() || active_.q != q) update(q);
-  const BarrierParams p = barrier_params(kappa_);
-  std::vector<FrictionStencil> fresh = lag_friction(active_, friction_ref_, p);
-  // Pairs that came into contact during the step get their damper here (and the dampers
-  // of pairs that were compressed further, their stiffer coefficient).
-  std::vector<DampingStencil> dampers = lag_damping(active_, friction_ref_, p, inverse_masses());
-  if (same_friction(fresh, friction_) && same_damping(dampers, damping_))
-    return false;  // the solution stands
+  std::vector<FrictionStencil> fresh = lag_friction(active_, friction_ref_, barrier_params(kappa_));
+  if (same_friction(fresh, friction_)) return false;  // the solution stands
   friction_ = std::move(fresh);
-  damping_ = std::move(dampers);
   return true;
 }
 

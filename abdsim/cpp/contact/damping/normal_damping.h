@@ -1,8 +1,7 @@
 // Contact dissipation: a lagged viscous damper on the normal gap of each active pair.
 //
-// At the start of a step (and again after convergence, with friction's refresh) each active
-// stencil with damping ratio ζ > 0 freezes its closest-point weights w, its normal n and a
-// damper coefficient
+// At the start of a step each active stencil (inside d̂) with damping ratio ζ > 0 freezes its
+// closest-point weights w, its normal n and a damper coefficient
 //     C = 2 ζ √(k m),   k = ∂²(κ m_c b)/∂d² at the lagged gap (the barrier's normal stiffness),
 // with m the pair's reduced translational mass (each body's mass shared among its damped
 // pairs, so a box on four corners is damped as one spring of stiffness 4k). During the step
@@ -12,7 +11,11 @@
 // by c²), whose force is −C v_n n: a dashpot on the normal relative velocity. It is a convex
 // quadratic (Hessian C/c · g gᵀ, PSD), so the step can only lose energy through it, and it
 // changes nothing the barrier or CCD guarantee. k, and so C, vanish as the gap reaches d̂
-// (b'' = 0 there): the damper fades in with the barrier.
+// (b'' = 0 there): the damper fades in with the barrier. Dampers are not lagged again after
+// convergence (unlike friction): a damper lagged inside d̂ at the end of the step that
+// reached the surface would brake the whole step's fall, outside d̂ too (a body dropped
+// onto the ground hovered above d̂ for tens of milliseconds before touching); the impact
+// step is the barrier's, the steps after it are damped.
 #pragma once
 #include <array>
 #include <vector>
