@@ -77,9 +77,12 @@ class SceneSettings:
             incremental potential (it can only remove energy; barrier and CCD are untouched).
             Restitution: the coefficient e it gives is at most what the integrator already
             gives with ζ = 0, because IPC's barrier is much stiffer than the step resolves
-            and the implicit step itself dissipates most of an impact (measured on a box
-            dropped 5 cm: e ≈ 0.14 with BDF1, ≈ 0.28 with BDF2, at dt 1e-3 and 1e-2); ζ ≥ 1
-            takes it to ≈ 0 (MuJoCo's default, critically damped contact).
+            and the implicit step itself dissipates most of an impact (measured on a box and
+            a sphere dropped 5 cm, rebound above d̂: e ≤ 0.05 with BDF1, e ≈ 0.2-0.3 with
+            BDF2, at dt 1e-3 and 1e-2), so e = 0.5 or 0.9 cannot be had; ζ = 1 takes it to 0
+            (the body stays within d̂ after landing), like MuJoCo's default contact. The
+            MJCF loader maps ``solref``'s damping ratio here. Dampers are lagged at the step
+            start: the step that reaches the surface is the barrier's alone.
         eps_v: friction smoothing speed ε_v (m/s): "static" friction creeps at a fraction of
             this speed (lagged IPC friction).
         friction_iterations: IPC's friction iterations: after Newton converges, friction's
