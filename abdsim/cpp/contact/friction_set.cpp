@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "contact/friction/friction_potential.h"
-#include "contact/lagged_compare.h"
 
 namespace abd::contact {
 
@@ -17,12 +16,9 @@ std::vector<FrictionStencil> lag_friction(const ActiveSet& set, const std::vecto
     const double lambda = stencil_normal_force(s, g, set.x, p);
     if (!(lambda > 0.0) || !std::isfinite(lambda)) continue;
     FrictionStencil f;
-    f.nv = s.nv;
-    f.vertices = s.vertices;
-    f.w = g.w;
+    static_cast<LaggedStencil&>(f) = lagged_stencil(s, g.w, x_ref);
     f.basis = g.basis;
     f.mu_lambda = s.mu * lambda;
-    f.x_t = gather_positions(s, x_ref);
     out.push_back(f);
   }
   return out;
@@ -39,8 +35,7 @@ bool same_friction(const std::vector<FrictionStencil>& a, const std::vector<Fric
 
 StencilEnergy friction_energy(const FrictionStencil& f, const std::vector<Vec3>& x, double eps,
                               int order) {
-  StencilVec dx(3 * f.nv);
-  for (int i = 0; i < f.nv; ++i) dx.segment<3>(3 * i) = x[f.vertices[i]] - f.x_t.segment<3>(3 * i);
+  const StencilVec dx = lagged_displacement(f, x);
   const FrictionDerivatives d = friction_potential(dx, f.w, f.basis, f.mu_lambda, eps, order);
   return {d.value, d.grad, d.hess};
 }

@@ -5,7 +5,6 @@
 
 #include "contact/barrier/barrier.h"
 #include "contact/distance/edge_edge_mollifier.h"
-#include "contact/lagged_compare.h"
 
 namespace abd::contact {
 namespace {
@@ -55,12 +54,9 @@ std::vector<DampingStencil> lag_damping(const ActiveSet& set, const std::vector<
     const double k = m * normal_stiffness(g.d2, p.d_hat, s.xi, p.kappa);
     if (!(k > 0.0)) continue;
     DampingStencil d;
-    d.nv = s.nv;
-    d.vertices = s.vertices;
-    d.w = g.w;
+    static_cast<LaggedStencil&>(d) = lagged_stencil(s, g.w, x_ref);
     d.normal = stencil_normal(s, g);
     d.coefficient = 2.0 * s.damping * std::sqrt(k / inv_m);
-    d.x_ref = gather_positions(s, x_ref);
     out.push_back(d);
   }
   return out;
@@ -78,12 +74,10 @@ bool same_damping(const std::vector<DampingStencil>& a, const std::vector<Dampin
 StencilEnergy damping_energy(const DampingStencil& s, const std::vector<Vec3>& x, double c,
                              int order) {
   // g = ∂u/∂x: the normal, weighted per vertex; u the normal relative displacement.
+  const StencilVec dx = lagged_displacement(s, x);
   StencilVec g(3 * s.nv);
-  double u = 0.0;
-  for (int i = 0; i < s.nv; ++i) {
-    g.segment<3>(3 * i) = s.w[i] * s.normal;
-    u += s.w[i] * s.normal.dot(x[s.vertices[i]] - s.x_ref.segment<3>(3 * i));
-  }
+  for (int i = 0; i < s.nv; ++i) g.segment<3>(3 * i) = s.w[i] * s.normal;
+  const double u = g.dot(dx);
   const double a = s.coefficient / c;
   StencilEnergy e;
   e.value = 0.5 * a * u * u;

@@ -21,17 +21,14 @@
 #include <vector>
 
 #include "contact/active_set.h"
+#include "contact/lagged_stencil.h"
 #include "contact/stencil_barrier.h"
 
 namespace abd::contact {
 
-struct DampingStencil {
-  int nv = 0;
-  std::array<int, 4> vertices{};
-  StencilWeights w;
+struct DampingStencil : LaggedStencil {
   Vec3 normal = Vec3::UnitZ();
   double coefficient = 0.0;  // C (N·s/m)
-  StencilVec x_ref;          // stencil coordinates at the integrator's reference point
 };
 
 // Dampers of the active stencils of `set` with damping > 0. inverse_mass: per body 1/m, 0
