@@ -126,6 +126,8 @@ class LoadResult:
         source_map: source rigid group → body index (URDF: Pinocchio joint id; MJCF: MuJoCo
             body id of the weld group's root; MJCF world geoms are not in it).
         notes: what was skipped or approximated while loading (also issued as warnings).
+        contact_damping: the contact damping ratio ζ the source asks for (MJCF ``solref``'s
+            damping ratio; ``SceneSettings.contact_damping``), None where it says nothing.
         sensors: the source's sensors (``abdsim.sim.sensors.SensorSpec``, MJCF ``<sensor>``),
             added to :attr:`scene`'s ``sensors``.
         contact_rules: the source's pairwise contact filter and friction
@@ -147,6 +149,7 @@ class LoadResult:
     notes: list[str] = field(default_factory=list)
     sensors: list[Any] = field(default_factory=list)
     contact_rules: Any = None
+    contact_damping: float | None = None
     _scene: Any = field(default=None, repr=False)
 
     # -- lookup -------------------------------------------------------------------------------

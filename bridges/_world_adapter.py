@@ -58,8 +58,8 @@ def _scene_settings_fields(scene_cls: Any) -> set[str]:
 def build_scene(result: Any, **settings: Any) -> Any:
     """A Scene with every body of a LoadResult (body i = ``result.bodies[i]``).
 
-    The source's settings (``dt``, ``gravity``; a ground plane and friction where the Scene
-    supports them) are used unless ``settings`` overrides them.
+    The source's settings (``dt``, ``gravity``; a ground plane, friction and contact damping
+    where the Scene supports them) are used unless ``settings`` overrides them.
     """
     scene_cls = _abdsim_class("Scene")
     known = _scene_settings_fields(scene_cls)
@@ -72,6 +72,9 @@ def build_scene(result: Any, **settings: Any) -> Any:
     frictions += [b.friction for b in result.bodies if b.friction is not None]
     if frictions and "friction" in known:
         kwargs["friction"] = float(max(frictions))  # MuJoCo combines a pair by the max
+    damping = getattr(result, "contact_damping", None)
+    if damping is not None and "contact_damping" in known:
+        kwargs["contact_damping"] = float(damping)
     kwargs.update(settings)
     scene = scene_cls(**kwargs)
     # Kinematic links declared as such up front, where the Scene supports it: contact then

@@ -116,6 +116,7 @@ def load_mjcf(
     geom_ids = {loader.geom_name(g): g for g in range(model.ngeom)}
     rules = mjcf_rules(mujoco, model, bodies, geom_ids, [geom_ids[gr.name] for gr in grounds])
     loader.notes.extend(unsimulated_notes(mujoco, model))  # bridges/_mjcf_unsupported.py
+    contact_damping = solref_damping(model, loader.notes)
     for note in loader.notes:
         warnings.warn(note, stacklevel=2)
     if not bodies and not grounds:
@@ -134,7 +135,48 @@ def load_mjcf(
         notes=loader.notes,
         sensors=sensors,
         contact_rules=rules,
+        contact_damping=contact_damping,
     )
+
+
+def solref_damping(model, notes: list[str]) -> float | None:
+    """abdsim's contact damping ratio ζ from the colliding geoms' ``solref``.
+
+    MuJoCo's standard ``solref`` (time constant > 0, damping ratio) makes each contact a
+    spring-damper with that damping ratio; abdsim's ``contact_damping`` is the damping ratio
+    of a dashpot on the same normal motion against IPC's barrier, so the ratio maps and the
+    time constant does not (the barrier's stiffness is IPC's). Direct ``solref`` (negative:
+    stiffness, damping) and per-``<pair>`` values have no such meaning and are noted. With
+    different ratios on different geoms the mean is taken (MuJoCo mixes each pair's).
+    None where nothing collides.
+    """
+    colliding = [
+        g
+        for g in range(model.ngeom)
+        if model.geom_contype[g] != 0 or model.geom_conaffinity[g] != 0
+    ]
+    if not colliding:
+        return None
+    solref = np.asarray(model.geom_solref, dtype=np.float64)[colliding]
+    standard = solref[:, 0] > 0
+    if not standard.all():
+        notes.append(
+            f"contact: {int((~standard).sum())} geom(s) use direct solref (-stiffness, "
+            "-damping), which has no damping-ratio meaning: contact_damping left at the "
+            "scene's default"
+        )
+        return None
+    ratios = solref[:, 1]
+    zeta = float(ratios.mean())
+    spread = "" if np.ptp(ratios) == 0 else f" (mean of {ratios.min():g}..{ratios.max():g})"
+    notes.append(
+        f"contact: solref damping ratio {zeta:g}{spread} -> contact_damping = {zeta:g}; "
+        f"solref time constant(s) {sorted(set(solref[:, 0].tolist()))} s not mapped "
+        "(abdsim's barrier stiffness is IPC's: contact_stiffness, d_hat)"
+    )
+    if model.npair:
+        notes.append(f"contact: {model.npair} <pair> element(s): their solref is not mapped")
+    return zeta
 
 
 def _compile(mujoco, mjcf: Path):

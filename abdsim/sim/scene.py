@@ -28,6 +28,8 @@ class Ground:
 
     height: float = 0.0
     friction: float | None = None  #: μ against the ground (None: the scene's ``friction``)
+    #: normal damping ratio ζ against the ground (None: the scene's ``contact_damping``)
+    damping: float | None = None
 
 
 class ContactTable:
@@ -36,11 +38,13 @@ class ContactTable:
     Every body carries a contact element id (``scene.add(sc, contact_element=k)``, default 0);
     the ground is ``"ground"``. By default every pair collides with the scene's ``friction``
     (and the ground's own friction, if ``add_ground`` gave one). Pairs of one element with
-    itself are allowed (bodies of the same element).
+    itself are allowed (bodies of the same element). A pair's normal damping ratio ζ
+    (``SceneSettings.contact_damping``) is set here too.
     """
 
     def __init__(self) -> None:
         self._rules: dict[tuple, tuple[bool, float | None]] = {}
+        self._damping: dict[tuple, float] = {}
 
     @staticmethod
     def _key(a: int | str, b: int | str) -> tuple:
@@ -54,15 +58,31 @@ class ContactTable:
         return tuple(sorted((a, b), key=lambda e: (e == GROUND, e if e != GROUND else 0)))
 
     def set(
-        self, a: int | str, b: int | str, enabled: bool = True, friction: float | None = None
+        self,
+        a: int | str,
+        b: int | str,
+        enabled: bool = True,
+        friction: float | None = None,
+        damping: float | None = None,
     ) -> None:
-        """Whether elements a and b collide (``enabled``) and with which μ (None: default)."""
-        if friction is not None and not (np.isfinite(friction) and friction >= 0):
-            raise ValueError(f"friction must be finite and >= 0, got {friction!r}")
-        self._rules[self._key(a, b)] = (
+        """Whether elements a and b collide (``enabled``), with which μ and which normal
+        damping ratio ζ (None: the scene's ``friction`` / ``contact_damping``)."""
+        for name, v in (("friction", friction), ("damping", damping)):
+            if v is not None and not (np.isfinite(v) and v >= 0):
+                raise ValueError(f"{name} must be finite and >= 0, got {v!r}")
+        key = self._key(a, b)
+        self._rules[key] = (
             bool(enabled),
             None if friction is None else float(friction),
         )
+        if damping is None:
+            self._damping.pop(key, None)
+        else:
+            self._damping[key] = float(damping)
+
+    def damping(self, a: int | str, b: int | str) -> float | None:
+        """The pair's normal damping ratio ζ, or None for the scene's default."""
+        return self._damping.get(self._key(a, b))
 
     def get(self, a: int | str, b: int | str) -> tuple[bool, float | None]:
         """(enabled, friction or None for the default) of a pair."""
@@ -182,13 +202,17 @@ class Scene:
         """The ground (``add_ground``), or None."""
         return self._ground
 
-    def add_ground(self, height: float = 0.0, friction: float | None = None) -> Ground:
+    def add_ground(
+        self, height: float = 0.0, friction: float | None = None, damping: float | None = None
+    ) -> Ground:
         """Add the ground: the half-space z >= ``height`` (m), a fixed obstacle for contact.
 
         Args:
             height: ground height (m).
             friction: μ between the ground and every body (None: the scene's ``friction``);
                 ``contact_table.set(k, "ground", ...)`` overrides it per element.
+            damping: normal damping ratio ζ between the ground and every body (None: the
+                scene's ``contact_damping``); per element as friction.
 
         Raises:
             ValueError: non-finite values, or a second ground at another height.
@@ -200,6 +224,10 @@ class Scene:
             friction = float(friction)
             if not (np.isfinite(friction) and friction >= 0):
                 raise ValueError(f"ground friction must be finite and >= 0, got {friction!r}")
+        if damping is not None:
+            damping = float(damping)
+            if not (np.isfinite(damping) and damping >= 0):
+                raise ValueError(f"ground damping must be finite and >= 0, got {damping!r}")
         if self._ground is not None and self._ground.height != height:
             raise ValueError(
                 f"the scene already has a ground at z = {self._ground.height}; only one ground "
@@ -207,7 +235,9 @@ class Scene:
             )
         if self._ground is not None and friction is None:
             friction = self._ground.friction
-        self._ground = Ground(height, friction)
+        if self._ground is not None and damping is None:
+            damping = self._ground.damping
+        self._ground = Ground(height, friction, damping)
         return self._ground
 
     def add(

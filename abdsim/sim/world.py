@@ -306,6 +306,7 @@ class World:
         cs.kappa = float(st.contact_stiffness)
         cs.mu = float(st.friction)
         cs.eps_v = float(st.eps_v)
+        cs.damping = float(st.contact_damping)
         ground = scene.ground
         cs.ground = ground is not None
         cs.ground_height = float(ground.height) if ground is not None else 0.0
@@ -317,19 +318,26 @@ class World:
         cs.ground_contact_element = ground_id
         cs.body_contact_element = elements.tolist()
         ground_mu = None if ground is None else ground.friction
-        if len(scene.contact_table) or ground_mu is not None:
+        ground_zeta = None if ground is None else ground.damping
+        if len(scene.contact_table) or ground_mu is not None or ground_zeta is not None:
             n = ground_id + 1
             enabled = np.ones((n, n), dtype=np.int32)
             mu = np.full((n, n), float(st.friction))
+            zeta = np.full((n, n), float(st.contact_damping))
             if ground_mu is not None:
                 mu[ground_id, :] = mu[:, ground_id] = ground_mu
+            if ground_zeta is not None:
+                zeta[ground_id, :] = zeta[:, ground_id] = ground_zeta
             for (a, b), (on, friction) in scene.contact_table.items():
                 i = ground_id if a == GROUND else a
                 j = ground_id if b == GROUND else b
                 enabled[i, j] = enabled[j, i] = int(on)
                 if friction is not None:
                     mu[i, j] = mu[j, i] = friction
-            cs.set_contact_table_matrices(enabled, mu)
+                damping = scene.contact_table.damping(a, b)
+                if damping is not None:
+                    zeta[i, j] = zeta[j, i] = damping
+            cs.set_contact_table_matrices(enabled, mu, zeta)
         return cs
 
     @staticmethod

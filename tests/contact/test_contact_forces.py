@@ -131,14 +131,22 @@ def torque_of(q, generalized):
 
 
 @pytest.mark.parametrize(
-    "obstacle, integrator", [("ground", "bdf1"), ("ground", "bdf2"), ("box", "bdf1")]
+    "obstacle, integrator, damping",
+    [
+        ("ground", "bdf1", 0.0),
+        ("ground", "bdf2", 0.0),
+        ("box", "bdf1", 0.0),
+        ("ground", "bdf2", 1.0),
+        ("box", "bdf1", 1.0),
+    ],
 )
-def test_wrench_is_the_momentum_change_the_step_applied(wc, obstacle, integrator):
+def test_wrench_is_the_momentum_change_the_step_applied(wc, obstacle, integrator, damping):
     """A spinning box lands with friction on the ground or on a fixed box (point–triangle
     and edge–edge pairs): at every contact step its wrench equals M (q − q̃)/c² (force) and
     that generalized force's torque about the centre of mass, within 1e-8 of the peak; the
-    pairs of ``contacts()`` sum to the wrenches' forces."""
-    scene = abdsim.Scene(dt=DT, integrator=integrator, **TIGHT)
+    pairs of ``contacts()`` sum to the wrenches' forces. With contact damping the dampers'
+    forces are part of both."""
+    scene = abdsim.Scene(dt=DT, integrator=integrator, contact_damping=damping, **TIGHT)
     if obstacle == "ground":
         scene.add_ground(0.0)
     else:

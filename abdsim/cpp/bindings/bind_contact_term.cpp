@@ -32,8 +32,10 @@ VecX flat_q(const py::array_t<double, py::array::c_style | py::array::forcecast>
 ContactRule to_rule(const py::handle& r) {
   if (py::isinstance<ContactRule>(r)) return r.cast<ContactRule>();
   const auto t = r.cast<py::tuple>();
-  if (t.size() != 2) throw std::invalid_argument("a contact rule is (enabled, mu)");
-  return ContactRule{t[0].cast<bool>(), t[1].cast<double>()};
+  if (t.size() != 2 && t.size() != 3)
+    throw std::invalid_argument("a contact rule is (enabled, mu) or (enabled, mu, damping)");
+  return ContactRule{t[0].cast<bool>(), t[1].cast<double>(),
+                     t.size() == 3 ? t[2].cast<double>() : -1.0};
 }
 
 std::shared_ptr<IpcContactTerm> make_term(
@@ -117,10 +119,13 @@ Eigen::MatrixXd dense_hessian(const IpcContactTerm& t, const VecX& q) {
 
 void bind_settings(py::module_& m) {
   py::class_<ContactRule>(m, "ContactRule")
-      .def(py::init([](bool enabled, double mu) { return ContactRule{enabled, mu}; }),
-           py::arg("enabled") = true, py::arg("mu") = 0.5)
+      .def(py::init([](bool enabled, double mu, double damping) {
+             return ContactRule{enabled, mu, damping};
+           }),
+           py::arg("enabled") = true, py::arg("mu") = 0.5, py::arg("damping") = -1.0)
       .def_readwrite("enabled", &ContactRule::enabled)
-      .def_readwrite("mu", &ContactRule::mu);
+      .def_readwrite("mu", &ContactRule::mu)
+      .def_readwrite("damping", &ContactRule::damping, "normal damping ratio; < 0: default");
 
   py::class_<ContactSettings> settings(m, "ContactSettings", "Settings of the IPC contact term.");
   const char* type = "ContactSettings";
@@ -130,6 +135,8 @@ void bind_settings(py::module_& m) {
   def_finite(settings, type, "eps_v", &ContactSettings::eps_v, "friction smoothing speed (m/s)");
   def_finite(settings, type, "ground_height", &ContactSettings::ground_height);
   def_finite(settings, type, "ccd_target", &ContactSettings::ccd_target);
+  def_finite(settings, type, "damping", &ContactSettings::damping,
+             "default normal damping ratio of every pair (0: none)");
   settings.def(py::init<>())
       .def_readwrite("ground", &ContactSettings::ground)
       .def_readwrite("ground_contact_element", &ContactSettings::ground_contact_element)
@@ -149,10 +156,12 @@ void bind_settings(py::module_& m) {
           "rule(element_a, element_b) -> ContactRule or (enabled, mu); None: all collide.")
       .def(
           "set_contact_table_matrices",
-          [](ContactSettings& s, const Eigen::MatrixXi& enabled, const Eigen::MatrixXd& mu) {
-            s.contact_table = contact::contact_rule_from_matrices(enabled, mu, s.mu);
+          [](ContactSettings& s, const Eigen::MatrixXi& enabled, const Eigen::MatrixXd& mu,
+             const std::optional<Eigen::MatrixXd>& damping) {
+            s.contact_table = contact::contact_rule_from_matrices(
+                enabled, mu, s.mu, damping.value_or(Eigen::MatrixXd()));
           },
-          py::arg("enabled"), py::arg("mu"));
+          py::arg("enabled"), py::arg("mu"), py::arg("damping") = py::none());
 }
 
 }  // namespace
@@ -184,6 +193,8 @@ void bind_contact_term(py::module_& m) {
            py::arg("q"))
       .def("friction_value",
            [](const IpcContactTerm& t, Q q) { return t.friction_value(flat_q(q)); }, py::arg("q"))
+      .def("damping_value",
+           [](const IpcContactTerm& t, Q q) { return t.damping_value(flat_q(q)); }, py::arg("q"))
       .def(
           "gradient",
           [](const IpcContactTerm& t, Q q) {
@@ -236,6 +247,7 @@ void bind_contact_term(py::module_& m) {
              d["edge_edge"] = c.edge_edge;
              d["point_ground"] = c.point_ground;
              d["friction"] = c.friction;
+             d["damping"] = c.damping;
              return d;
            })
       .def("active_pairs", &active_pairs,

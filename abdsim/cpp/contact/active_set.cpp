@@ -22,13 +22,22 @@ ActiveSet select_active(const ContactMesh& mesh, const ContactTable& table,
     set.min_gap = std::min(set.min_gap, gap);
     set.stencils.push_back(s);
   };
-  for (const auto& [v, f] : candidates.point_triangle)
-    consider(point_triangle_stencil(mesh, v, f,
-                                    table.bodies(mesh.vertex_body[v], mesh.face_body[f]).mu));
-  for (const auto& [a, b] : candidates.edge_edge)
-    consider(edge_edge_stencil(mesh, a, b, table.bodies(mesh.edge_body[a], mesh.edge_body[b]).mu));
-  for (int v : candidates.point_ground)
-    consider(point_ground_stencil(mesh, v, table.ground(mesh.vertex_body[v]).mu));
+  auto with_damping = [](ContactStencil s, const ContactRule& r) {
+    s.damping = r.damping;
+    return s;
+  };
+  for (const auto& [v, f] : candidates.point_triangle) {
+    const ContactRule& r = table.bodies(mesh.vertex_body[v], mesh.face_body[f]);
+    consider(with_damping(point_triangle_stencil(mesh, v, f, r.mu), r));
+  }
+  for (const auto& [a, b] : candidates.edge_edge) {
+    const ContactRule& r = table.bodies(mesh.edge_body[a], mesh.edge_body[b]);
+    consider(with_damping(edge_edge_stencil(mesh, a, b, r.mu), r));
+  }
+  for (int v : candidates.point_ground) {
+    const ContactRule& r = table.ground(mesh.vertex_body[v]);
+    consider(with_damping(point_ground_stencil(mesh, v, r.mu), r));
+  }
   return set;
 }
 

@@ -16,7 +16,7 @@ struct ContactForce {
   std::array<int, 2> bodies{{-1, -1}};
   Vec3 point = Vec3::Zero();     // midpoint of the two closest points (world, m)
   Vec3 normal = Vec3::Zero();    // unit, from the second side towards the first
-  double normal_force = 0.0;     // barrier force on the first side along `normal` (N)
+  double normal_force = 0.0;     // barrier (+ damping) force on the first side along `normal` (N)
   Vec3 friction = Vec3::Zero();  // friction force on the first side (N); the second gets −it
 };
 

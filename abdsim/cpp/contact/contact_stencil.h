@@ -22,6 +22,7 @@ struct ContactStencil {
   double xi = 0.0;                  // sum of both primitives' thickness radii
   double eps_x = 0.0;               // edge–edge mollifier threshold (0: not edge–edge)
   double mu = 0.0;                  // friction coefficient of the pair
+  double damping = 0.0;             // damping ratio ζ of the pair (damping/normal_damping.h)
 };
 
 ContactStencil point_triangle_stencil(const ContactMesh& mesh, int vertex, int face, double mu);

@@ -1,23 +1,27 @@
 #include "contact/contact_table.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
 namespace abd::contact {
 
 ContactRuleFn contact_rule_from_matrices(const Eigen::MatrixXi& enabled, const Eigen::MatrixXd& mu,
-                                         double default_mu) {
+                                         double default_mu, const Eigen::MatrixXd& damping) {
   if (enabled.rows() != enabled.cols() || mu.rows() != enabled.rows() || mu.cols() != enabled.cols())
     throw std::invalid_argument("contact table: enabled and mu must be square and of equal size");
-  return [enabled, mu, default_mu](int a, int b) {
-    if (a >= enabled.rows() || b >= enabled.rows()) return ContactRule{true, default_mu};
-    return ContactRule{enabled(a, b) != 0, mu(a, b)};
+  if (damping.size() && (damping.rows() != enabled.rows() || damping.cols() != enabled.cols()))
+    throw std::invalid_argument("contact table: damping must have the size of enabled");
+  return [enabled, mu, default_mu, damping](int a, int b) {
+    if (a >= enabled.rows() || b >= enabled.rows()) return ContactRule{true, default_mu, -1.0};
+    return ContactRule{enabled(a, b) != 0, mu(a, b), damping.size() ? damping(a, b) : -1.0};
   };
 }
 
 ContactTable::ContactTable(int n_bodies, const std::vector<int>& body_element, int ground_element,
-                           double default_mu, const ContactRuleFn& rule_fn) {
+                           double default_mu, const ContactRuleFn& rule_fn,
+                           double default_damping) {
   if (!body_element.empty() && int(body_element.size()) != n_bodies)
     throw std::invalid_argument("contact elements: " + std::to_string(body_element.size()) +
                                 " ids for " + std::to_string(n_bodies) + " bodies");
@@ -34,12 +38,17 @@ ContactTable::ContactTable(int n_bodies, const std::vector<int>& body_element, i
     return int(std::lower_bound(distinct.begin(), distinct.end(), id) - distinct.begin());
   };
   n_ = int(distinct.size());
-  rules_.assign(size_t(n_) * n_, ContactRule{true, default_mu});
+  if (!(default_damping >= 0.0) || !std::isfinite(default_damping))
+    throw std::invalid_argument("contact table: damping must be finite and >= 0");
+  rules_.assign(size_t(n_) * n_, ContactRule{true, default_mu, default_damping});
   if (rule_fn)
     for (int i = 0; i < n_; ++i)
       for (int j = i; j < n_; ++j) {
-        const ContactRule r = rule_fn(distinct[i], distinct[j]);
+        ContactRule r = rule_fn(distinct[i], distinct[j]);
         if (!(r.mu >= 0.0)) throw std::invalid_argument("contact table: friction mu must be >= 0");
+        if (!std::isfinite(r.damping))
+          throw std::invalid_argument("contact table: damping must be finite");
+        if (r.damping < 0.0) r.damping = default_damping;
         rules_[i * n_ + j] = rules_[j * n_ + i] = r;
       }
   for (int b = 0; b < n_bodies; ++b) body_index_.push_back(index_of(ids[b]));

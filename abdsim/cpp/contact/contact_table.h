@@ -13,22 +13,24 @@ namespace abd::contact {
 struct ContactRule {
   bool enabled = true;
   double mu = 0.5;
+  double damping = -1.0;  // normal damping ratio ζ; < 0: the scene's default
 };
 
 using ContactRuleFn = std::function<ContactRule(int element_a, int element_b)>;
 
-// A rule from two square matrices over element ids: enabled(a, b) != 0 and mu(a, b); ids
-// outside the matrices collide with default_mu.
+// A rule from square matrices over element ids: enabled(a, b) != 0, mu(a, b) and (if not
+// empty) damping(a, b); ids outside the matrices collide with default_mu and the default ζ.
 ContactRuleFn contact_rule_from_matrices(const Eigen::MatrixXi& enabled, const Eigen::MatrixXd& mu,
-                                         double default_mu);
+                                         double default_mu,
+                                         const Eigen::MatrixXd& damping = Eigen::MatrixXd());
 
 class ContactTable {
  public:
   ContactTable() = default;
   // body_element: one id per body (empty: all 0). An empty rule: every pair collides with
-  // default_mu.
+  // default_mu and default_damping (a rule's damping < 0 also means default_damping).
   ContactTable(int n_bodies, const std::vector<int>& body_element, int ground_element,
-               double default_mu, const ContactRuleFn& rule);
+               double default_mu, const ContactRuleFn& rule, double default_damping = 0.0);
 
   const ContactRule& bodies(int a, int b) const { return rule(body_index_[a], body_index_[b]); }
   const ContactRule& ground(int b) const { return rule(body_index_[b], ground_index_); }

@@ -16,12 +16,9 @@ std::vector<FrictionStencil> lag_friction(const ActiveSet& set, const std::vecto
     const double lambda = stencil_normal_force(s, g, set.x, p);
     if (!(lambda > 0.0) || !std::isfinite(lambda)) continue;
     FrictionStencil f;
-    f.nv = s.nv;
-    f.vertices = s.vertices;
-    f.w = g.w;
+    static_cast<LaggedStencil&>(f) = lagged_stencil(s, g.w, x_ref);
     f.basis = g.basis;
     f.mu_lambda = s.mu * lambda;
-    f.x_t = gather_positions(s, x_ref);
     out.push_back(f);
   }
   return out;
@@ -29,21 +26,16 @@ std::vector<FrictionStencil> lag_friction(const ActiveSet& set, const std::vecto
 
 bool same_friction(const std::vector<FrictionStencil>& a, const std::vector<FrictionStencil>& b,
                    double rtol) {
-  if (a.size() != b.size()) return false;
-  double largest = 0.0;
-  for (const FrictionStencil& f : a) largest = std::max(largest, f.mu_lambda);
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    if (a[i].nv != b[i].nv || a[i].vertices != b[i].vertices) return false;
-    if (std::abs(a[i].mu_lambda - b[i].mu_lambda) > rtol * largest) return false;
-    if ((a[i].basis - b[i].basis).cwiseAbs().maxCoeff() > rtol) return false;
-  }
-  return true;
+  return same_lagged(
+      a, b, rtol, [](const FrictionStencil& f) { return f.mu_lambda; },
+      [](const FrictionStencil& f, const FrictionStencil& g) {
+        return (f.basis - g.basis).cwiseAbs().maxCoeff();
+      });
 }
 
 StencilEnergy friction_energy(const FrictionStencil& f, const std::vector<Vec3>& x, double eps,
                               int order) {
-  StencilVec dx(3 * f.nv);
-  for (int i = 0; i < f.nv; ++i) dx.segment<3>(3 * i) = x[f.vertices[i]] - f.x_t.segment<3>(3 * i);
+  const StencilVec dx = lagged_displacement(f, x);
   const FrictionDerivatives d = friction_potential(dx, f.w, f.basis, f.mu_lambda, eps, order);
   return {d.value, d.grad, d.hess};
 }

@@ -7,17 +7,14 @@
 #include <vector>
 
 #include "contact/active_set.h"
+#include "contact/lagged_stencil.h"
 #include "contact/stencil_barrier.h"
 
 namespace abd::contact {
 
-struct FrictionStencil {
-  int nv = 0;
-  std::array<int, 4> vertices{};
-  StencilWeights w;
+struct FrictionStencil : LaggedStencil {
   Mat3x2 basis;
   double mu_lambda = 0.0;
-  StencilVec x_t;  // stencil coordinates at the reference point (the step start for BDF1)
 };
 
 // Weights, bases and normal forces from `set` (the step start, or a converged iterate); the

@@ -95,6 +95,25 @@ std::vector<ContactForce> IpcContactTerm::contact_forces(const VecX& q) const {
     c.bodies = stencil_bodies(f.vertices, f.nv);
     set_point_and_normal(f.vertices, f.nv, f.w, set.x, settings_.ground_height, c);
     c.friction = force;
+    index.emplace(key_of(f.nv, f.vertices), out.size());
+    out.push_back(c);
+  }
+  // The normal dampers' forces act along the lagged normal, with the barrier's.
+  for (const DampingStencil& d : damping_) {
+    const StencilEnergy e = damping_energy(d, set.x, step_scale(), 1);
+    const Vec3 force = friction_first_side_force(e.grad, d.w, d.nv);
+    const auto it = index.find(key_of(d.nv, d.vertices));
+    if (it != index.end()) {
+      ContactForce& c = out[it->second];
+      c.normal_force += force.dot(c.normal);
+      c.friction += force - force.dot(c.normal) * c.normal;  // the lagged normal's tilt
+      continue;
+    }
+    ContactForce c;
+    c.bodies = stencil_bodies(d.vertices, d.nv);
+    set_point_and_normal(d.vertices, d.nv, d.w, set.x, settings_.ground_height, c);
+    c.normal_force = force.dot(c.normal);
+    c.friction = force - c.normal_force * c.normal;
     out.push_back(c);
   }
   std::vector<ContactForce> nonzero;
@@ -131,6 +150,8 @@ WrenchMatrix IpcContactTerm::contact_wrenches(const VecX& q,
     add(s.vertices, s.nv, stencil_barrier(s, set.x, p, 1).grad);
   for (const FrictionStencil& f : friction_)
     add(f.vertices, f.nv, friction_energy(f, set.x, friction_eps_, 1).grad);
+  for (const DampingStencil& d : damping_)
+    add(d.vertices, d.nv, damping_energy(d, set.x, step_scale(), 1).grad);
   return W;
 }
 

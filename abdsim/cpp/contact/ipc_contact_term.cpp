@@ -23,6 +23,8 @@ const ContactSettings& validated(const ContactSettings& s) {
   if (!(s.d_hat > 0.0)) throw std::invalid_argument("ContactSettings: d_hat must be > 0");
   if (!(s.eps_v > 0.0)) throw std::invalid_argument("ContactSettings: eps_v must be > 0");
   if (!(s.mu >= 0.0)) throw std::invalid_argument("ContactSettings: mu must be >= 0");
+  if (!(s.damping >= 0.0) || !std::isfinite(s.damping))
+    throw std::invalid_argument("ContactSettings: damping must be finite and >= 0");
   if (!(s.ccd_target > 0.0 && s.ccd_target < 1.0))
     throw std::invalid_argument("ContactSettings: ccd_target must lie in (0, 1)");
   return s;
@@ -60,7 +62,7 @@ IpcContactTerm::IpcContactTerm(const SceneData& scene, const ContactSettings& se
     : settings_(validated(settings)),
       mesh_(ContactMesh::from_scene(scene)),
       table_(mesh_.num_bodies(), settings.body_contact_element, settings.ground_contact_element,
-             settings.mu, settings.contact_table),
+             settings.mu, settings.contact_table, settings.damping),
       broad_phase_(mesh_, [this](int a, int b) { return bodies_may_collide(a, b); }),
       scripted_(size_t(mesh_.num_bodies()), 0),
       threads_(resolve_threads(0)),
@@ -169,7 +171,19 @@ void IpcContactTerm::begin_step(const StepContext& ctx) {
   if (adaptive_kappa() && !compressed_at_start_) kappa_ = std::clamp(kappa_, kappa_min_, kappa_max_);
   const bool own_ref = ctx.q_ref && ctx.q_ref->size() == ctx.q_t.size() && *ctx.q_ref != ctx.q_t;
   friction_ref_ = own_ref ? mesh_.world_vertices(*ctx.q_ref) : active_.x;
+  lag_dissipation();
+}
+
+std::vector<double> IpcContactTerm::inverse_masses() const {
+  std::vector<double> inv(size_t(mesh_.num_bodies()), 0.0);
+  for (int b = 0; b < mesh_.num_bodies(); ++b)
+    if (!mesh_.fixed[b] && !scripted_[b] && mesh_.mass[b] > 0.0) inv[size_t(b)] = 1.0 / mesh_.mass[b];
+  return inv;
+}
+
+void IpcContactTerm::lag_dissipation() {
   friction_ = lag_friction(active_, friction_ref_, barrier_params(kappa_));
+  damping_ = lag_damping(active_, friction_ref_, barrier_params(kappa_), inverse_masses());
 }
 
 bool IpcContactTerm::refresh_lagged(const VecX& q) {
@@ -238,8 +252,8 @@ double IpcContactTerm::initialize_kappa(const VecX& q, const VecX& grad_rest) {
     // the balance makes that state an equilibrium. κ_min would store far more than the
     // load's energy in the barrier, released as a jump.
     if (balance > 0.0) kappa_ = std::min(balance, kappa_max_);
-    // Friction was lagged with the old κ: its normal forces follow the barrier's.
-    friction_ = lag_friction(active_, friction_ref_, barrier_params(kappa_));
+    // Friction and damping were lagged with the old κ: they follow the barrier's.
+    lag_dissipation();
     return kappa_;
   }
   kappa_ = balance > 0.0 ? std::clamp(balance, kappa_min_, kappa_max_) : kappa_min_;
@@ -264,7 +278,17 @@ double IpcContactTerm::friction_value(const VecX& q) const {
   return sum;
 }
 
-double IpcContactTerm::value(const VecX& q) const { return barrier_value(q) + friction_value(q); }
+double IpcContactTerm::damping_value(const VecX& q) const {
+  if (damping_.empty()) return 0.0;
+  const std::vector<Vec3> x = mesh_.world_vertices(q);
+  double sum = 0.0;
+  for (const DampingStencil& d : damping_) sum += damping_energy(d, x, step_scale(), 0).value;
+  return sum;
+}
+
+double IpcContactTerm::value(const VecX& q) const {
+  return barrier_value(q) + friction_value(q) + damping_value(q);
+}
 
 void IpcContactTerm::add_barrier_gradient(const ActiveSet& set, double kappa, double scale,
                                           VecX& gradient) const {
@@ -289,6 +313,12 @@ void IpcContactTerm::add_gradient(const VecX& q, double scale, VecX& gradient) c
       [&](int i) { return friction_energy(friction_[i], set.x, friction_eps_, 1); },
       [&](int i, const StencilEnergy& e) {
         add_stencil_gradient(mesh_, friction_[i].vertices, friction_[i].nv, e.grad, scale, gradient);
+      });
+  evaluate_in_order(
+      int(damping_.size()), false, threads_,
+      [&](int i) { return damping_energy(damping_[i], set.x, step_scale(), 1); },
+      [&](int i, const StencilEnergy& e) {
+        add_stencil_gradient(mesh_, damping_[i].vertices, damping_[i].nv, e.grad, scale, gradient);
       });
 }
 
@@ -326,6 +356,14 @@ void IpcContactTerm::add_derivatives(const VecX& q, double scale, VecX* gradient
         if (gradient) add_stencil_gradient(mesh_, f.vertices, f.nv, e.grad, scale, *gradient);
         acc.add_stencil(mesh_, f.vertices, f.nv, e.hess, scale);
       });
+  evaluate_in_order(
+      int(damping_.size()), false, threads_,
+      [&](int i) { return damping_energy(damping_[i], set.x, step_scale(), 2); },
+      [&](int i, const StencilEnergy& e) {
+        const DampingStencil& d = damping_[i];
+        if (gradient) add_stencil_gradient(mesh_, d.vertices, d.nv, e.grad, scale, *gradient);
+        acc.add_stencil(mesh_, d.vertices, d.nv, e.hess, scale);
+      });
   acc.flush_into(blocks);
 }
 
@@ -337,6 +375,7 @@ ContactCounts IpcContactTerm::counts() const {
     if (s.kind == StencilKind::PointGround) ++c.point_ground;
   }
   c.friction = int(friction_.size());
+  c.damping = int(damping_.size());
   return c;
 }
 
@@ -370,11 +409,20 @@ void IpcContactTerm::add_body_values(const VecX& q, const std::vector<unsigned c
     link(b);
     if (o >= 0) per_body[o] += friction_energy(f, set.x, friction_eps_, 0).value;
   }
+  for (const DampingStencil& d : damping_) {
+    const std::array<int, 2> b = stencil_bodies(d.vertices, d.nv);
+    const int o = owner(b);
+    link(b);
+    if (o >= 0) per_body[o] += damping_energy(d, set.x, step_scale(), 0).value;
+  }
 }
 
 void IpcContactTerm::mark_friction_bodies(std::vector<unsigned char>& flags) const {
   for (const FrictionStencil& f : friction_)
     for (int b : stencil_bodies(f.vertices, f.nv))
+      if (b >= 0 && b < int(flags.size())) flags[size_t(b)] = 1;
+  for (const DampingStencil& d : damping_)
+    for (int b : stencil_bodies(d.vertices, d.nv))
       if (b >= 0 && b < int(flags.size())) flags[size_t(b)] = 1;
 }
 
@@ -391,6 +439,7 @@ void IpcContactTerm::body_links(const std::vector<unsigned char>& movable,
   };
   for (const ContactStencil& s : active_.stencils) link({s.bodies[0], s.bodies[1]});
   for (const FrictionStencil& f : friction_) link(stencil_bodies(f.vertices, f.nv));
+  for (const DampingStencil& d : damping_) link(stencil_bodies(d.vertices, d.nv));
 }
 
 }  // namespace abd

@@ -1,7 +1,9 @@
-// IPC contact (barrier + lagged friction) between affine bodies and with an analytic ground,
-// as one EnergyTerm (solver/energy_term.h). Value, gradient and Hessian are the potential
+// IPC contact (barrier + lagged friction + lagged normal damping) between affine bodies and
+// with an analytic ground, as one EnergyTerm (solver/energy_term.h). Value, gradient and
+// Hessian are the potential
 //     Σ_active κ m_k b(d_k²; d̂, ξ_k)  +  Σ_lagged μ_k λ_k f0(|u_k|; ε_v h)
-// (the solver scales by h²). Vertex-space Hessians are PSD-projected per stencil (unless
+//       + Σ_lagged C_k / (2c) (n_kᵀ r_k)²     (damping/normal_damping.h)
+// (the solver scales by h², c² for BDF2). Vertex-space Hessians are PSD-projected per stencil (unless
 // ContactSettings::project_hessian is false) and mapped to 12×12 body blocks J_iᵀ H J_j. Fixed bodies take part (they only do not move); pairs of two
 // fixed (or scripted, see set_scripted) bodies are ignored, they can neither move apart nor be
 // helped.
@@ -21,6 +23,7 @@
 // const methods refit.
 #pragma once
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -30,6 +33,7 @@
 #include "contact/contact_force.h"
 #include "contact/contact_mesh.h"
 #include "contact/contact_table.h"
+#include "contact/damping/normal_damping.h"
 #include "contact/friction_set.h"
 #include "solver/energy_term.h"
 #include "solver/scene_data.h"
@@ -44,11 +48,13 @@ struct ContactSettings {
   double kappa = 0.0;    // contact stiffness κ_c; <= 0: adaptive (IPC), starting at κ_min
   double mu = 0.5;       // default friction coefficient (0 disables friction)
   double eps_v = 1e-3;   // friction smoothing speed (m/s), used as ε_v h
+  double damping = 0.0;  // default normal damping ratio ζ of every pair (0: none)
   bool ground = false;   // the half-space z >= ground_height is a fixed obstacle
   double ground_height = 0.0;
   int ground_contact_element = 0;
   std::vector<int> body_contact_element;  // one contact element id per body; empty: all 0
-  ContactRuleFn contact_table;            // (element a, element b) -> {collide?, μ}; empty: all, mu
+  ContactRuleFn contact_table;  // (element a, element b) -> {collide?, μ, ζ}; empty: all, mu
+
   double ccd_target = 0.1;  // CCD keeps at least this fraction of each pair's gap (safety)
   bool project_hessian = true;  // PSD-project each barrier stencil (false: exact, for tests)
 };
@@ -58,6 +64,7 @@ struct ContactCounts {
   int edge_edge = 0;
   int point_ground = 0;
   int friction = 0;
+  int damping = 0;  // lagged normal dampers
 };
 
 class IpcContactTerm : public EnergyTerm {
@@ -106,6 +113,7 @@ class IpcContactTerm : public EnergyTerm {
 
   double barrier_value(const VecX& q) const;
   double friction_value(const VecX& q) const;
+  double damping_value(const VecX& q) const;
 
   // Scripted bodies (kinematic: the solver moves them along a prescribed path) collide with
   // dynamic bodies only: pairs of two scripted or fixed bodies, and scripted bodies with the
@@ -127,7 +135,7 @@ class IpcContactTerm : public EnergyTerm {
   // update(q) for a caller that knows no pair is within d̂ at q (e.g. from body_max_steps
   // along a move that ends at q): the empty active set, without a broad-phase query.
   void set_no_active_pairs(const VecX& q);
-  // Sets flags[b] = 1 for every body in a lagged friction pair of this step.
+  // Sets flags[b] = 1 for every body in a lagged friction or damping pair of this step.
   void mark_friction_bodies(std::vector<unsigned char>& flags) const;
   // Sets flags[b] = 1 for every body in an active pair of the last update() (within d̂).
   void mark_active_bodies(std::vector<unsigned char>& flags) const;
@@ -163,6 +171,8 @@ class IpcContactTerm : public EnergyTerm {
   bool bodies_may_collide(int a, int b) const;
   void add_derivatives(const VecX& q, double scale, VecX* gradient,
                        std::vector<BodyBlock>& blocks) const;
+  void lag_dissipation();  // friction_ and damping_ from active_ and the reference point
+  std::vector<double> inverse_masses() const;
   void swept_tois(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1, double margin,
                   std::vector<contact::ContactStencil>& stencils, std::vector<double>& toi) const;
 
@@ -179,9 +189,12 @@ class IpcContactTerm : public EnergyTerm {
   // The last set built for another q (line-search trials): update() at that q reuses it.
   mutable contact::ActiveSet last_built_;
   double potential_scale_ = 0.0;  // c² of the current step (h², or (2h/3)² for BDF2)
+  // c: the time scale that turns displacements from the reference point into velocities.
+  double step_scale() const { return potential_scale_ > 0.0 ? std::sqrt(potential_scale_) : dt_; }
   std::vector<contact::FrictionStencil> friction_;
   double friction_eps_ = 0.0;  // ε_v c
   std::vector<Vec3> friction_ref_;  // vertex positions at the step's reference point
+  std::vector<contact::DampingStencil> damping_;
   double dt_ = 0.01;
   double bbox_diagonal_ = 1.0;
   double average_mass_ = 1.0;
