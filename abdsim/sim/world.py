@@ -62,6 +62,14 @@ class StepDiagnostics:
         linear_solver: ``"block_diagonal"``, ``"direct"`` or ``"pcg"``.
         pcg_iterations: PCG iterations summed over the step's Newton iterations.
         wall_time: seconds spent in the C++ step.
+        profile: where a coupled step's time went (seconds, summed over its Newton
+            iterations): ``assembly`` (gradient and Hessian), ``linear_solve`` (sparse
+            analysis, factorisation and solve, or PCG), ``ccd`` (step bounds),
+            ``line_search`` (energies of the trials), ``contact_update`` (the contact set
+            at each accepted iterate) and ``broad_phase`` (within the others); and counts:
+            ``ccd_cuts`` (island line searches whose first trial the step bound cut),
+            ``armijo_halvings`` and ``symbolic_analyses`` (sparse pattern analyses: the
+            coupled structure changed). Empty for steps without terms.
     """
 
     step: int
@@ -87,6 +95,7 @@ class StepDiagnostics:
     kinematic_lag: float = 0.0
     kinematic_lag_body: int = -1
     integrator_order: int = 1
+    profile: dict[str, float] = field(default_factory=dict)
 
     @property
     def ccd_step_bound(self) -> float:
@@ -124,6 +133,17 @@ class StepDiagnostics:
             kinematic_lag=d.kinematic_lag,
             kinematic_lag_body=d.kinematic_lag_body,
             integrator_order=d.integrator_order,
+            profile={
+                "assembly": d.time_assembly,
+                "linear_solve": d.time_linear_solve,
+                "ccd": d.time_ccd,
+                "line_search": d.time_line_search,
+                "contact_update": d.time_contact_update,
+                "broad_phase": d.time_broad_phase,
+                "ccd_cuts": d.line_search_ccd_cuts,
+                "armijo_halvings": d.line_search_halvings,
+                "symbolic_analyses": d.symbolic_analyses,
+            },
         )
 
 

@@ -272,7 +272,16 @@ void bind_settings(py::module_& m) {
       .def_readonly("kinematic_lag_body", &StepDiagnostics::kinematic_lag_body)
       .def_readonly("linear_solver", &StepDiagnostics::linear_solver)
       .def_readonly("pcg_iterations", &StepDiagnostics::pcg_iterations)
-      .def_readonly("wall_time", &StepDiagnostics::wall_time);
+      .def_readonly("wall_time", &StepDiagnostics::wall_time)
+      .def_readonly("time_assembly", &StepDiagnostics::time_assembly)
+      .def_readonly("time_linear_solve", &StepDiagnostics::time_linear_solve)
+      .def_readonly("time_ccd", &StepDiagnostics::time_ccd)
+      .def_readonly("time_line_search", &StepDiagnostics::time_line_search)
+      .def_readonly("time_contact_update", &StepDiagnostics::time_contact_update)
+      .def_readonly("time_broad_phase", &StepDiagnostics::time_broad_phase)
+      .def_readonly("line_search_ccd_cuts", &StepDiagnostics::line_search_ccd_cuts)
+      .def_readonly("line_search_halvings", &StepDiagnostics::line_search_halvings)
+      .def_readonly("symbolic_analyses", &StepDiagnostics::symbolic_analyses);
 }
 
 void bind_world(py::module_& m) {

@@ -56,7 +56,8 @@ void IpcContactTerm::swept_tois(const std::vector<Vec3>& x0, const std::vector<V
   query.margin = margin;
   query.ground = settings_.ground;
   query.ground_height = settings_.ground_height;
-  const Candidates c = broad_phase_.query_swept(x0, x1, query);
+  const Candidates c =
+      timed(broad_phase_seconds_, [&] { return broad_phase_.query_swept(x0, x1, query); });
   stencils.clear();
   stencils.reserve(c.point_triangle.size() + c.edge_edge.size() + c.point_ground.size());
   for (const auto& [v, f] : c.point_triangle) stencils.push_back(point_triangle_stencil(mesh_, v, f, 0.0));
@@ -126,7 +127,7 @@ void IpcContactTerm::check_initial(const VecX& q) const {
   query.ground = settings_.ground;
   query.ground_height = settings_.ground_height;
   query.edge_triangle = true;
-  const Candidates c = broad_phase_.query(x, query);
+  const Candidates c = timed(broad_phase_seconds_, [&] { return broad_phase_.query(x, query); });
 
   for (const auto& [e, f] : c.edge_triangle) {
     const auto& ev = mesh_.edges[e];

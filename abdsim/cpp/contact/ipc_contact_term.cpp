@@ -125,7 +125,8 @@ ActiveSet IpcContactTerm::build_active_set(const VecX& q, double reach) const {
   query.margin = reach;
   query.ground = settings_.ground;
   query.ground_height = settings_.ground_height;
-  const Candidates candidates = broad_phase_.query(x, query);
+  const Candidates candidates =
+      timed(broad_phase_seconds_, [&] { return broad_phase_.query(x, query); });
   return select_active(mesh_, table_, candidates, q, std::move(x), reach, settings_.ground_height);
 }
 

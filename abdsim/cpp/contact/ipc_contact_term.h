@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "common/stopwatch.h"
 #include "contact/active_set.h"
 #include "contact/barrier/adaptive_stiffness.h"
 #include "contact/broad_phase/broad_phase.h"
@@ -117,6 +118,8 @@ class IpcContactTerm : public EnergyTerm {
   void set_threads(int threads);
 
   double kappa() const { return kappa_; }
+  // Wall-clock seconds spent in broad-phase queries since construction (for the profile).
+  double broad_phase_seconds() const { return broad_phase_seconds_; }
   void set_kappa(double kappa);
   bool adaptive_kappa() const { return settings_.kappa <= 0.0; }
   // Adaptive κ only (otherwise returns kappa()): IPC's gradient balance against grad_rest,
@@ -173,6 +176,7 @@ class IpcContactTerm : public EnergyTerm {
   contact::ContactMesh mesh_;
   contact::ContactTable table_;
   mutable contact::BroadPhase broad_phase_;  // a cache of refit BVHs (see above)
+  mutable double broad_phase_seconds_ = 0.0;  // see broad_phase_seconds()
   std::vector<char> scripted_;  // per body, see set_scripted
   int threads_ = 1;
   contact::ActiveSet active_;
