@@ -636,7 +636,12 @@ class World:
         return sensor_values(specs, state)
 
     def add_term(self, term: _core.EnergyTerm) -> None:
-        """Add a potential (contact, joints, a ``_core.PythonEnergyTerm`` subclass...) to Π."""
+        """Add a potential (contact, joints, a ``_core.PythonEnergyTerm`` subclass...) to Π.
+
+        A Python term whose ``__init__`` calls ``super().__init__(bodies=[...])`` involves only
+        those bodies: the solver couples just them (the others keep their own per-body
+        solve); without ``bodies`` a Python term couples every body into one system.
+        """
         self._core.add_term(term)
 
     @property
