@@ -73,6 +73,14 @@ class StepDiagnostics:
         linear_solver: ``"block_diagonal"``, ``"direct"`` or ``"pcg"``.
         pcg_iterations: PCG iterations summed over the step's Newton iterations.
         wall_time: seconds spent in the C++ step.
+        profile: where a coupled step's time went (seconds, summed over its Newton
+            iterations): ``assembly`` (gradient and Hessian), ``linear_solve`` (sparse
+            analysis, factorisation and solve, or PCG), ``ccd`` (step bounds),
+            ``line_search`` (energies of the trials), ``contact_update`` (the contact set
+            at each accepted iterate) and ``broad_phase`` (within the others); and counts:
+            ``ccd_cuts`` (island line searches whose first trial the step bound cut),
+            ``armijo_halvings`` and ``symbolic_analyses`` (sparse pattern analyses: the
+            coupled structure changed). Empty for steps without terms.
     """
 
     step: int
@@ -101,6 +109,7 @@ class StepDiagnostics:
     substeps: int = 1
     joint_violation: float = 0.0
     joint_violation_angle: float = 0.0
+    profile: dict[str, float] = field(default_factory=dict)
 
     @property
     def ccd_step_bound(self) -> float:
@@ -141,6 +150,17 @@ class StepDiagnostics:
             substeps=d.substeps,
             joint_violation=d.joint_violation,
             joint_violation_angle=d.joint_violation_angle,
+            profile={
+                "assembly": d.time_assembly,
+                "linear_solve": d.time_linear_solve,
+                "ccd": d.time_ccd,
+                "line_search": d.time_line_search,
+                "contact_update": d.time_contact_update,
+                "broad_phase": d.time_broad_phase,
+                "ccd_cuts": d.line_search_ccd_cuts,
+                "armijo_halvings": d.line_search_halvings,
+                "symbolic_analyses": d.symbolic_analyses,
+            },
         )
 
 
@@ -848,7 +868,12 @@ class World:
         return sensor_values(specs, state)
 
     def add_term(self, term: _core.EnergyTerm) -> None:
-        """Add a potential (contact, joints, a ``_core.PythonEnergyTerm`` subclass...) to Π."""
+        """Add a potential (contact, joints, a ``_core.PythonEnergyTerm`` subclass...) to Π.
+
+        A Python term whose ``__init__`` calls ``super().__init__(bodies=[...])`` involves only
+        those bodies: the solver couples just them (the others keep their own per-body
+        solve); without ``bodies`` a Python term couples every body into one system.
+        """
         self._core.add_term(term)
 
     @property

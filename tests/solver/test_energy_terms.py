@@ -24,8 +24,11 @@ def jacobian(x_bar: np.ndarray) -> np.ndarray:
 class Spring(_core.PythonEnergyTerm):
     """Zero-length spring k/2 |x_a - x_b|² between material points of bodies a and b."""
 
-    def __init__(self, a, b, x_bar_a, x_bar_b, k):
-        super().__init__()
+    def __init__(self, a, b, x_bar_a, x_bar_b, k, bodies=None):
+        if bodies is None:
+            super().__init__()
+        else:
+            super().__init__(bodies=bodies)
         self.a, self.b, self.k = a, b, k
         self.Ja, self.Jb = jacobian(np.asarray(x_bar_a)), jacobian(np.asarray(x_bar_b))
 
@@ -124,8 +127,9 @@ def test_spring_matches_the_bdf1_recurrence(tools):
     sc, world = two_boxes(tools)
     m, k = float(sc.meta["abd_mass"]), 2e3
     r, v = -1.0, 0.0
+    analyses = 0
     for _ in range(30):
-        world.step()
+        analyses += world.step().profile["symbolic_analyses"]
         v = (v - H * 2 * k / m * r) / (1 + H * H * 2 * k / m)
         r = r + H * v
         x = world.transforms()[:, 0, 3]
@@ -136,6 +140,8 @@ def test_spring_matches_the_bdf1_recurrence(tools):
     )
     d = world.diagnostics
     assert d.linear_solver == "direct"
+    # The coupled pair never changes: one sparse analysis, reused by every later iteration.
+    assert analyses == 1
     assert set(d.energies) == {"kinetic", "shape", "spring", "total"}
     assert d.energies["spring"] == pytest.approx(0.5 * k * r * r, rel=1e-6)
 
@@ -298,3 +304,88 @@ def test_external_kinetic_body_is_driven_by_its_energy_alone(tools):
     np.testing.assert_allclose(world.transforms()[0], np.eye(4), atol=1e-8)
     assert world.diagnostics.linear_solver == "block_diagonal"  # couplings to a fixed body drop
     np.testing.assert_allclose(world.velocities()[0, :3, 3], -T[0, :3, 3] / H, atol=1e-6)
+
+
+def springs_among_free_boxes(tools, bodies):
+    """12 boxes 1 m apart falling freely (no contact), a spring between boxes 0 and 1
+    constructed with `bodies` (None: a term that may involve any body)."""
+    sc = tools.make_box(12)
+    T = np.tile(np.eye(4), (12, 1, 1))
+    T[:, 0, 3] = np.arange(12.0)
+    sc.transforms = T
+    world = tools.world_of(sc, dt=H)
+    world.add_term(Spring(0, 1, np.zeros(3), np.zeros(3), k=2e3, bodies=bodies))
+    return world
+
+
+def test_named_python_term_couples_only_its_bodies(tools):
+    """A Python term that names its bodies couples those two; the ten others keep their
+    own free-fall solve, exactly BDF1's (z_n = −g h² n(n+1)/2), and the result matches
+    the same term coupling everything."""
+    steps, g = 10, 9.81
+    everything = springs_among_free_boxes(tools, None)
+    named = springs_among_free_boxes(tools, [0, 1])
+    for _ in range(steps):
+        d_all, d_named = everything.step(), named.step()
+        assert d_all.coupled_bodies == 12
+        assert d_named.coupled_bodies == 2
+        assert d_named.islands == 1
+    z = -g * H * H * steps * (steps + 1) / 2
+    free = named.transforms()[2:]
+    np.testing.assert_allclose(free[:, 2, 3], z, rtol=1e-12)
+    np.testing.assert_allclose(free[:, :3, :3], np.tile(np.eye(3), (10, 1, 1)), atol=1e-12)
+    np.testing.assert_allclose(named.q, everything.q, atol=1e-9)
+    r = named.transforms()[:2, 0, 3]
+    assert r[1] - r[0] < 1.0  # the spring pulled them together
+
+
+class Leaky(Spring):
+    """A spring naming bodies 0 and 1 whose gradient or Hessian also touches body 2."""
+
+    def __init__(self, where):
+        super().__init__(0, 1, np.zeros(3), np.zeros(3), k=2e3, bodies=[0, 1])
+        self.where = where
+
+    def gradient(self, q):
+        g = super().gradient(q)
+        if self.where == "gradient":
+            g[24] = 1.0
+        return g
+
+    def hessian(self, q):
+        blocks = super().hessian(q)
+        if self.where == "hessian":
+            blocks += [(0, 2, np.eye(12)), (2, 0, np.eye(12))]
+        return blocks
+
+
+@pytest.mark.parametrize(
+    ("where", "message"),
+    [("gradient", "non-zero on body 2"), ("hessian", r"block \(0, 2\), outside")],
+)
+def test_named_python_term_stays_on_its_bodies(tools, where, message):
+    sc = tools.make_box(3)
+    T = np.tile(np.eye(4), (3, 1, 1))
+    T[:, 0, 3] = np.arange(3.0)
+    sc.transforms = T
+    world = tools.world_of(sc, dt=H)
+    world.add_term(Leaky(where))
+    with pytest.raises(ValueError, match=message):
+        world.step()
+
+
+@pytest.mark.parametrize(
+    ("bodies", "message"),
+    [([], "bodies is empty"), ([0, 0], "body 0 is named twice"), ([-1], "body -1 is negative")],
+)
+def test_named_python_term_bad_bodies(bodies, message):
+    assert Spring(0, 1, np.zeros(3), np.zeros(3), k=1.0, bodies=[1, 0]).bodies == [1, 0]
+    with pytest.raises(ValueError, match=message):
+        Spring(0, 1, np.zeros(3), np.zeros(3), k=1.0, bodies=bodies)
+
+
+def test_named_python_term_out_of_range(tools):
+    _, world = two_boxes(tools)
+    world.add_term(Spring(0, 5, np.zeros(3), np.zeros(3), k=1.0, bodies=[0, 5]))
+    with pytest.raises(ValueError, match="body 5 is out of range"):
+        world.step()

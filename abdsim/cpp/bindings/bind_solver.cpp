@@ -7,6 +7,7 @@
 #include <Eigen/SVD>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -100,8 +101,31 @@ void check_affine_rows(const MatX12& q, const std::string& what) {
 // hessian(q) (list of (row, col, 12x12) blocks, every coupling with its transpose) and
 // optionally max_step(q, dq), begin_step(dt, q_t, q_dot_t), update(q). Values are
 // unscaled potentials; the solver scales them.
+//
+// A term constructed with `bodies` says it involves only those bodies: it then splits by
+// body as one element (EnergyTerm::splits_by_body), so the solver couples only the named
+// bodies (one island) and every other body keeps its own per-body solve. Without it the
+// term may involve any body, which couples all of them into one system. Its gradient and
+// Hessian must then stay on the named bodies (checked: an entry elsewhere throws).
 class PythonEnergyTerm : public EnergyTerm {
  public:
+  PythonEnergyTerm() = default;
+  explicit PythonEnergyTerm(std::vector<int> bodies) : bodies_(std::move(bodies)) {
+    if (bodies_.empty()) throw std::invalid_argument("PythonEnergyTerm: bodies is empty");
+    std::vector<int> sorted = bodies_;
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t k = 0; k < sorted.size(); ++k) {
+      if (sorted[k] < 0)
+        throw std::invalid_argument("PythonEnergyTerm: body " + std::to_string(sorted[k]) +
+                                    " is negative");
+      if (k > 0 && sorted[k] == sorted[k - 1])
+        throw std::invalid_argument("PythonEnergyTerm: body " + std::to_string(sorted[k]) +
+                                    " is named twice");
+    }
+    named_ = std::move(sorted);
+  }
+  const std::vector<int>& bodies() const { return bodies_; }
+
   virtual VecX gradient(const VecX& q) const = 0;
   virtual HessianBlocks hessian(const VecX& q) const = 0;
   virtual void begin_step_py(double /*dt*/, const VecX& /*q_t*/, const VecX& /*q_dot_t*/) {}
@@ -112,15 +136,82 @@ class PythonEnergyTerm : public EnergyTerm {
     if (mine.size() != g.size())
       throw std::invalid_argument(name() + ".gradient returned " + std::to_string(mine.size()) +
                                   " values, expected " + std::to_string(g.size()));
+    if (!named_.empty()) {
+      check_range(g.size() / 12);
+      for (Eigen::Index b = 0; b < g.size() / 12; ++b)
+        if (!named(static_cast<int>(b)) && !mine.segment<12>(12 * b).isZero(0.0))
+          throw std::invalid_argument(name() + ".gradient is non-zero on body " +
+                                      std::to_string(b) + ", which is not in its bodies");
+    }
     g += scale * mine;
   }
   void add_hessian(const VecX& q, double scale, std::vector<BodyBlock>& blocks) const override {
-    for (const auto& [row, col, H] : hessian(q)) blocks.push_back({row, col, scale * H});
+    for (const auto& [row, col, H] : hessian(q)) {
+      if (!named_.empty() && (!named(row) || !named(col)))
+        throw std::invalid_argument(name() + ".hessian returned block (" + std::to_string(row) +
+                                    ", " + std::to_string(col) + "), outside its bodies");
+      blocks.push_back({row, col, scale * H});
+    }
   }
+
+  // Splitting by body: the whole term is one element involving the named bodies.
+  bool splits_by_body() const override { return !named_.empty(); }
+  void add_body_values(const VecX& q, const std::vector<unsigned char>& movable, VecX& per_body,
+                       std::vector<BodyLink>& links) const override {
+    check_range(per_body.size());
+    const int owner = first_in(movable);
+    if (owner < 0) return;  // nothing it involves moves: a constant
+    per_body[owner] += value(q);
+    link(movable, links);
+  }
+  void body_links(const std::vector<unsigned char>& movable,
+                  std::vector<BodyLink>& links) const override {
+    link(movable, links);
+  }
+  void body_max_steps(const VecX& q, const VecX& dq, const std::vector<unsigned char>& movable,
+                      VecX& bound, std::vector<unsigned char>& near,
+                      std::vector<BodyLink>& links) const override {
+    check_range(bound.size());
+    if (first_in(movable) < 0) return;
+    const double alpha = max_step(q, dq);
+    for (int b : named_) {
+      if (!movable[b]) continue;
+      bound[b] = std::min(bound[b], alpha);
+      near[b] = 1;  // its energy is not known to vanish anywhere
+    }
+    link(movable, links);
+  }
+
+ private:
+  bool named(int b) const { return std::binary_search(named_.begin(), named_.end(), b); }
+  void check_range(Eigen::Index n_bodies) const {
+    if (!named_.empty() && named_.back() >= n_bodies)
+      throw std::invalid_argument(name() + ": body " + std::to_string(named_.back()) +
+                                  " is out of range (the world has " +
+                                  std::to_string(n_bodies) + " bodies)");
+  }
+  int first_in(const std::vector<unsigned char>& movable) const {
+    for (int b : named_)
+      if (movable[b]) return b;
+    return -1;
+  }
+  // The movable named bodies in a chain: one island.
+  void link(const std::vector<unsigned char>& movable, std::vector<BodyLink>& links) const {
+    int previous = -1;
+    for (int b : named_) {
+      if (!movable[b]) continue;
+      if (previous >= 0) links.push_back({previous, b});
+      previous = b;
+    }
+  }
+
+  std::vector<int> bodies_;  // as given
+  std::vector<int> named_;   // sorted
 };
 
 class PythonEnergyTermTrampoline : public PythonEnergyTerm {
  public:
+  using PythonEnergyTerm::PythonEnergyTerm;
   std::string name() const override {
     PYBIND11_OVERRIDE_PURE(std::string, PythonEnergyTerm, name, );
   }
@@ -292,6 +383,11 @@ void bind_terms(py::module_& m) {
              std::shared_ptr<PythonEnergyTerm>>(m, "PythonEnergyTerm",
                                                 "Base class for energy terms written in Python.")
       .def(py::init<>())
+      .def(py::init<std::vector<int>>(), py::arg("bodies"),
+           "A term involving only `bodies`: the solver couples just those (see the C++ "
+           "docstring of PythonEnergyTerm); gradient and Hessian must stay on them.")
+      .def_property_readonly("bodies", &PythonEnergyTerm::bodies,
+                             "The bodies given at construction (empty: any body).")
       .def("gradient", &PythonEnergyTerm::gradient, py::arg("q"))
       .def("hessian", &PythonEnergyTerm::hessian, py::arg("q"))
       .def("max_step", &PythonEnergyTerm::max_step, py::arg("q"), py::arg("dq"))
@@ -363,7 +459,16 @@ void bind_settings(py::module_& m) {
       .def_readonly("joint_violation_angle", &StepDiagnostics::joint_violation_angle)
       .def_readonly("linear_solver", &StepDiagnostics::linear_solver)
       .def_readonly("pcg_iterations", &StepDiagnostics::pcg_iterations)
-      .def_readonly("wall_time", &StepDiagnostics::wall_time);
+      .def_readonly("wall_time", &StepDiagnostics::wall_time)
+      .def_readonly("time_assembly", &StepDiagnostics::time_assembly)
+      .def_readonly("time_linear_solve", &StepDiagnostics::time_linear_solve)
+      .def_readonly("time_ccd", &StepDiagnostics::time_ccd)
+      .def_readonly("time_line_search", &StepDiagnostics::time_line_search)
+      .def_readonly("time_contact_update", &StepDiagnostics::time_contact_update)
+      .def_readonly("time_broad_phase", &StepDiagnostics::time_broad_phase)
+      .def_readonly("line_search_ccd_cuts", &StepDiagnostics::line_search_ccd_cuts)
+      .def_readonly("line_search_halvings", &StepDiagnostics::line_search_halvings)
+      .def_readonly("symbolic_analyses", &StepDiagnostics::symbolic_analyses);
 }
 
 void bind_world(py::module_& m) {

@@ -1,6 +1,7 @@
 // IpcContactTerm: what keeps configurations feasible — the CCD step bound, minimum distances,
 // and the initial-configuration check.
 #include <algorithm>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -51,17 +52,19 @@ std::string describe(const ContactStencil& s) {
 // thickness), and their ACCD times of impact (1: none on the step).
 void IpcContactTerm::swept_tois(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1,
                                 double margin, std::vector<ContactStencil>& stencils,
-                                std::vector<double>& toi) const {
+                                std::vector<double>& toi, Candidates* keep) const {
   BroadPhaseQuery query;
   query.margin = margin;
   query.ground = settings_.ground;
   query.ground_height = settings_.ground_height;
-  const Candidates c = broad_phase_.query_swept(x0, x1, query);
+  const Candidates c =
+      timed(broad_phase_seconds_, [&] { return broad_phase_.query_swept(x0, x1, query); });
   stencils.clear();
   stencils.reserve(c.point_triangle.size() + c.edge_edge.size() + c.point_ground.size());
   for (const auto& [v, f] : c.point_triangle) stencils.push_back(point_triangle_stencil(mesh_, v, f, 0.0));
   for (const auto& [a, b] : c.edge_edge) stencils.push_back(edge_edge_stencil(mesh_, a, b, 0.0));
   for (int v : c.point_ground) stencils.push_back(point_ground_stencil(mesh_, v, 0.0));
+  if (keep) *keep = c;
 
   CcdOptions options;
   options.target = settings_.ccd_target;
@@ -98,8 +101,12 @@ void IpcContactTerm::body_max_steps(const VecX& q, const VecX& dq,
   std::vector<ContactStencil> stencils;
   std::vector<double> toi;
   // within reach of the barrier anywhere on the path
+  swept_.valid = false;
   swept_tois(mesh_.world_vertices(q), mesh_.world_vertices(q + dq), settings_.d_hat, stencils,
-             toi);
+             toi, &swept_.candidates);
+  swept_.q0 = q;
+  swept_.dq = dq;
+  swept_.valid = true;
   const int n = int(stencils.size());
   for (int i = 0; i < n; ++i) {
     const ContactStencil& s = stencils[size_t(i)];
@@ -111,6 +118,23 @@ void IpcContactTerm::body_max_steps(const VecX& q, const VecX& dq,
     }
     if (b >= 0 && a != b && movable[a] && movable[b]) links.push_back({a, b});
   }
+}
+
+bool IpcContactTerm::on_swept_path(const VecX& q) const {
+  if (!swept_.valid || q.size() != swept_.q0.size()) return false;
+  // Rounding of q0 + α dq: a few ulps of the coordinates' size.
+  constexpr double kUlps = 8.0 * std::numeric_limits<double>::epsilon();
+  for (Eigen::Index b = 0; b < q.size() / 12; ++b) {
+    const Vec12 d = q.segment<12>(12 * b) - swept_.q0.segment<12>(12 * b);
+    const Vec12 s = swept_.dq.segment<12>(12 * b);
+    const double scale = swept_.q0.segment<12>(12 * b).cwiseAbs().maxCoeff() +
+                         s.cwiseAbs().maxCoeff();
+    const double ss = s.squaredNorm();
+    const double t = ss > 0.0 ? d.dot(s) / ss : 0.0;
+    if (t < -kUlps || t > 1.0 + kUlps) return false;
+    if ((d - t * s).cwiseAbs().maxCoeff() > kUlps * scale) return false;
+  }
+  return true;
 }
 
 double IpcContactTerm::min_distance(const VecX& q, double max_distance) const {
@@ -126,7 +150,7 @@ void IpcContactTerm::check_initial(const VecX& q) const {
   query.ground = settings_.ground;
   query.ground_height = settings_.ground_height;
   query.edge_triangle = true;
-  const Candidates c = broad_phase_.query(x, query);
+  const Candidates c = timed(broad_phase_seconds_, [&] { return broad_phase_.query(x, query); });
 
   for (const auto& [e, f] : c.edge_triangle) {
     const auto& ev = mesh_.edges[e];

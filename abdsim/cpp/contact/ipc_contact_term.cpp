@@ -110,6 +110,7 @@ void IpcContactTerm::set_threads(int threads) { threads_ = resolve_threads(threa
 
 void IpcContactTerm::set_scripted(int body, bool scripted) {
   scripted_.at(body) = scripted;
+  swept_.valid = false;  // the filter of the kept candidates changed
 }
 
 BarrierParams IpcContactTerm::barrier_params(double kappa) const {
@@ -127,7 +128,11 @@ ActiveSet IpcContactTerm::build_active_set(const VecX& q, double reach) const {
   query.margin = reach;
   query.ground = settings_.ground;
   query.ground_height = settings_.ground_height;
-  const Candidates candidates = broad_phase_.query(x, query);
+  if (reach == settings_.d_hat && on_swept_path(q))
+    return select_active(mesh_, table_, swept_.candidates, q, std::move(x), reach,
+                         settings_.ground_height);
+  const Candidates candidates =
+      timed(broad_phase_seconds_, [&] { return broad_phase_.query(x, query); });
   return select_active(mesh_, table_, candidates, q, std::move(x), reach, settings_.ground_height);
 }
 
@@ -150,6 +155,7 @@ void IpcContactTerm::set_kappa(double kappa) {
 void IpcContactTerm::begin_step(const StepContext& ctx) {
   if (!(ctx.dt > 0.0)) throw std::invalid_argument("begin_step: dt must be > 0");
   dt_ = ctx.dt;
+  swept_.valid = false;  // a new step: the kept candidates are the last step's
   potential_scale_ = ctx.potential_scale > 0.0 ? ctx.potential_scale : dt_ * dt_;
   // Friction smooths the sliding velocity (x − x_ref)/c below ε_v: a displacement of ε_v c.
   friction_eps_ = settings_.eps_v * std::sqrt(potential_scale_);

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "common/stopwatch.h"
 #include "contact/active_set.h"
 #include "contact/barrier/adaptive_stiffness.h"
 #include "contact/broad_phase/broad_phase.h"
@@ -125,6 +126,8 @@ class IpcContactTerm : public EnergyTerm {
   void set_threads(int threads);
 
   double kappa() const { return kappa_; }
+  // Wall-clock seconds spent in broad-phase queries since construction (for the profile).
+  double broad_phase_seconds() const { return broad_phase_seconds_; }
   void set_kappa(double kappa);
   bool adaptive_kappa() const { return settings_.kappa <= 0.0; }
   // Adaptive κ only (otherwise returns kappa()): IPC's gradient balance against grad_rest,
@@ -174,7 +177,11 @@ class IpcContactTerm : public EnergyTerm {
   void lag_dissipation();  // friction_ and damping_ from active_ and the reference point
   std::vector<double> inverse_masses() const;
   void swept_tois(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1, double margin,
-                  std::vector<contact::ContactStencil>& stencils, std::vector<double>& toi) const;
+                  std::vector<contact::ContactStencil>& stencils, std::vector<double>& toi,
+                  contact::Candidates* keep = nullptr) const;
+  // True when every body of q lies on its segment of the last body_max_steps move:
+  // q_b = q0_b + t_b dq_b with t_b in [0, 1] (to rounding).
+  bool on_swept_path(const VecX& q) const;
 
   // The two bodies of a stencil's vertices (second -1 for the ground).
   std::array<int, 2> stencil_bodies(const std::array<int, 4>& vertices, int nv) const;
@@ -183,6 +190,17 @@ class IpcContactTerm : public EnergyTerm {
   contact::ContactMesh mesh_;
   contact::ContactTable table_;
   mutable contact::BroadPhase broad_phase_;  // a cache of refit BVHs (see above)
+  mutable double broad_phase_seconds_ = 0.0;  // see broad_phase_seconds()
+  // The candidates of the last body_max_steps move q0 → q0 + dq, within d̂ anywhere on it:
+  // a superset of the pairs within d̂ at any point where each body is somewhere on its own
+  // segment (each primitive's box there lies inside its swept box), so the line search's
+  // active sets take them instead of querying the broad phase at every trial.
+  struct SweptCandidates {
+    VecX q0, dq;
+    contact::Candidates candidates;
+    bool valid = false;
+  };
+  mutable SweptCandidates swept_;
   std::vector<char> scripted_;  // per body, see set_scripted
   int threads_ = 1;
   contact::ActiveSet active_;

@@ -1,7 +1,6 @@
 #include "solver/block_system.h"
 
 #include <Eigen/Cholesky>
-#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -89,49 +88,93 @@ int BlockSystem::solve_block_diagonal(const VecX& rhs, VecX& x, int threads) con
   return -1;
 }
 
-Eigen::SparseMatrix<double> BlockSystem::lower_matrix(std::vector<int>& index) const {
+template <class F>
+void BlockSystem::for_each_lower_entry(const std::vector<int>& index, F&& f) const {
+  for (int b = 0; b < n_; ++b) {
+    if (fixed_[b]) continue;
+    const int i = index[b];
+    for (int c = 0; c < 12; ++c)
+      for (int r = c; r < 12; ++r) f(12 * i + r, 12 * i + c, diag_[b](r, c));
+  }
+  // SimplicialLDLT reads the lower triangle: the blocks with row > col, whole (zeros
+  // included, so that the pattern depends only on which bodies are coupled).
+  for (const OffDiagonal& o : offdiag_) {
+    if (o.row < o.col) continue;
+    const int i = index[o.row], j = index[o.col];
+    for (int c = 0; c < 12; ++c)
+      for (int r = 0; r < 12; ++r) f(12 * i + r, 12 * j + c, o.H(r, c));
+  }
+}
+
+int BlockSystem::free_index(std::vector<int>& index) const {
   // Only the free bodies enter the factorisation (a scene of many bodies may couple a few).
   index.assign(n_, -1);
   int m = 0;
   for (int b = 0; b < n_; ++b)
     if (!fixed_[b]) index[b] = m++;
-  using Triplet = Eigen::Triplet<double>;
-  std::vector<Triplet> triplets;
+  return m;
+}
+
+Eigen::SparseMatrix<double> BlockSystem::lower_matrix(std::vector<int>& index) const {
+  const int m = free_index(index);
+  std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(static_cast<std::size_t>(m) * 78 + offdiag_.size() * 144 / 2);
-  for (int b = 0; b < n_; ++b) {
-    if (fixed_[b]) continue;
-    const int i = index[b];
-    for (int c = 0; c < 12; ++c)
-      for (int r = c; r < 12; ++r) triplets.emplace_back(12 * i + r, 12 * i + c, diag_[b](r, c));
-  }
-  // SimplicialLDLT reads the lower triangle: the blocks with row > col.
-  for (const OffDiagonal& o : offdiag_) {
-    if (o.row < o.col) continue;
-    const int i = index[o.row], j = index[o.col];
-    for (int c = 0; c < 12; ++c)
-      for (int r = 0; r < 12; ++r)
-        if (o.H(r, c) != 0.0) triplets.emplace_back(12 * i + r, 12 * j + c, o.H(r, c));
-  }
+  for_each_lower_entry(index, [&](int r, int c, double v) { triplets.emplace_back(r, c, v); });
   Eigen::SparseMatrix<double> A(12 * m, 12 * m);
   A.setFromTriplets(triplets.begin(), triplets.end());
   return A;
 }
 
-void BlockSystem::solve_direct(const VecX& rhs, VecX& x) const {
-  std::vector<int> index;
-  const Eigen::SparseMatrix<double> A = lower_matrix(index);
-  VecX b_free(A.rows());
-  for (int b = 0; b < n_; ++b)
-    if (!fixed_[b]) b_free.segment<12>(12 * index[b]) = rhs.segment<12>(12 * b);
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt(A);
-  if (ldlt.info() != Eigen::Success)
+bool BlockSystem::solve_direct(const VecX& rhs, VecX& x) {
+  const int m = free_index(index_);
+  pattern_scratch_.assign(index_.begin(), index_.end());
+  for (const OffDiagonal& o : offdiag_)
+    if (o.row > o.col) {
+      pattern_scratch_.push_back(o.row);
+      pattern_scratch_.push_back(o.col);
+    }
+  const bool analyse = !analysed_ || pattern_scratch_ != pattern_;
+  if (analyse) {
+    using Triplet = Eigen::Triplet<double>;
+    std::vector<Triplet> triplets;
+    triplets.reserve(static_cast<std::size_t>(m) * 78 + offdiag_.size() * 144 / 2);
+    for_each_lower_entry(index_, [&](int r, int c, double v) { triplets.emplace_back(r, c, v); });
+    matrix_.resize(12 * m, 12 * m);
+    matrix_.setFromTriplets(triplets.begin(), triplets.end());
+    // Where each entry landed in the compressed (column-major) value array.
+    slot_.clear();
+    slot_.reserve(triplets.size());
+    const int* outer = matrix_.outerIndexPtr();
+    const int* inner = matrix_.innerIndexPtr();
+    for (const Triplet& t : triplets) {
+      const int* first = inner + outer[t.col()];
+      const int* last = inner + outer[t.col() + 1];
+      slot_.push_back(static_cast<int>(std::lower_bound(first, last, t.row()) - inner));
+    }
+    analysed_ = false;
+    ldlt_.analyzePattern(matrix_);
+    if (ldlt_.info() != Eigen::Success)
+      throw SolverError("sparse LDLT analysis of the Newton matrix failed");
+    pattern_.swap(pattern_scratch_);
+    analysed_ = true;
+  } else {
+    double* values = matrix_.valuePtr();
+    std::size_t k = 0;
+    for_each_lower_entry(index_, [&](int, int, double v) { values[slot_[k++]] = v; });
+  }
+  ldlt_.factorize(matrix_);
+  if (ldlt_.info() != Eigen::Success)
     throw SolverError("sparse LDLT factorisation of the Newton matrix failed");
-  const VecX x_free = ldlt.solve(b_free);
-  if (ldlt.info() != Eigen::Success || !x_free.allFinite())
+  VecX b_free(12 * m);
+  for (int b = 0; b < n_; ++b)
+    if (!fixed_[b]) b_free.segment<12>(12 * index_[b]) = rhs.segment<12>(12 * b);
+  const VecX x_free = ldlt_.solve(b_free);
+  if (ldlt_.info() != Eigen::Success || !x_free.allFinite())
     throw SolverError("sparse LDLT solve of the Newton system failed (singular matrix?)");
   x.setZero(12 * n_);
   for (int b = 0; b < n_; ++b)
-    if (!fixed_[b]) x.segment<12>(12 * b) = x_free.segment<12>(12 * index[b]);
+    if (!fixed_[b]) x.segment<12>(12 * b) = x_free.segment<12>(12 * index_[b]);
+  return analyse;
 }
 
 void BlockSystem::multiply(const VecX& v, VecX& out, int threads) const {

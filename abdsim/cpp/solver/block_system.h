@@ -2,6 +2,7 @@
 // Cholesky when no block couples two bodies, Eigen's sparse LDLᵀ, and PCG with a 12x12
 // block-Jacobi preconditioner.
 #pragma once
+#include <Eigen/SparseCholesky>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -34,8 +35,11 @@ class BlockSystem {
   // Per-body solve, valid when !coupled(). Returns the first body whose block is not
   // positive definite, or -1.
   int solve_block_diagonal(const VecX& rhs, VecX& x, int threads) const;
-  // Sparse LDLᵀ of the assembled matrix. Throws SolverError on failure.
-  void solve_direct(const VecX& rhs, VecX& x) const;
+  // Sparse LDLᵀ of the assembled matrix. Throws SolverError on failure. The sparsity
+  // pattern, its fill-reducing ordering and symbolic factorisation are kept from the last
+  // call while the free bodies and the coupled pairs stay the same (then only the values
+  // are written and factorised again); returns true when a new symbolic analysis ran.
+  bool solve_direct(const VecX& rhs, VecX& x);
   // Returns the iteration count; throws SolverError when it does not converge.
   int solve_pcg(const VecX& rhs, VecX& x, double tolerance, int max_iterations,
                 int threads) const;
@@ -47,12 +51,29 @@ class BlockSystem {
     Mat12 H;
   };
   void multiply(const VecX& v, VecX& out, int threads) const;
+  // Calls f(row, col, value) for every stored lower-triangle entry of the free bodies'
+  // matrix, always in the same order for the same pattern.
+  template <class F>
+  void for_each_lower_entry(const std::vector<int>& index, F&& f) const;
+  // index[b]: body b's block among the free bodies (-1 if fixed); returns their count.
+  int free_index(std::vector<int>& index) const;
 
   int n_ = 0;
   std::vector<std::uint8_t> fixed_;
   std::vector<Mat12> diag_;
   std::vector<OffDiagonal> offdiag_;
   std::vector<int> row_start_;  // CSR over offdiag_ after finalize()
+
+  // solve_direct's cache: the pattern it was analysed for (free bodies' indices, then the
+  // (row, col) of the lower coupling blocks), the matrix, where each entry of
+  // for_each_lower_entry lives in its value array, and the factorisation.
+  std::vector<int> index_;
+  std::vector<int> pattern_;
+  std::vector<int> pattern_scratch_;
+  Eigen::SparseMatrix<double> matrix_;
+  std::vector<int> slot_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt_;
+  bool analysed_ = false;
 };
 
 }  // namespace abd

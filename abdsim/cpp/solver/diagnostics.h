@@ -70,6 +70,24 @@ struct StepDiagnostics {
   std::string linear_solver;  // "block_diagonal", "direct", "pcg" or "none"
   long pcg_iterations = 0;    // summed over Newton iterations
   double wall_time = 0.0;     // seconds
+  // Profile of the coupled solve (always on; seconds, summed over the step's Newton
+  // iterations): assembling gradient and Hessian (bodies and terms), the linear solve
+  // (sparse symbolic analysis + numeric factorisation + solve, or PCG), the step bounds
+  // (CCD, with their broad phase), the line search's energy evaluations, the terms'
+  // update() after each accepted iterate (the contact set), and the contact broad phase
+  // within all of these.
+  double time_assembly = 0.0;
+  double time_linear_solve = 0.0;
+  double time_ccd = 0.0;
+  double time_line_search = 0.0;
+  double time_contact_update = 0.0;
+  double time_broad_phase = 0.0;
+  // Line searches whose first trial was cut by the step bound (CCD), Armijo halvings
+  // summed over all line searches and islands, and sparse symbolic analyses (the sparsity
+  // pattern of the coupled system changed; otherwise the last analysis is reused).
+  int line_search_ccd_cuts = 0;
+  int line_search_halvings = 0;
+  int symbolic_analyses = 0;
 };
 
 }  // namespace abd

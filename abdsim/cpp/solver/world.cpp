@@ -275,7 +275,9 @@ void World::solve_step(StepDiagnostics& d) {
     step_per_body(c, bdf2, d);  // predictions, Newton and velocities in one parallel loop
   } else {
     parallel_for(n_, threads_, [&](int b) { predict_body(b, c, bdf2); });
+    const double broad_phase_before = contact_ ? contact_->broad_phase_seconds() : 0.0;
     solve_coupled(c2, d);
+    if (contact_) d.time_broad_phase = contact_->broad_phase_seconds() - broad_phase_before;
     parallel_for(n_, threads_, [&](int b) { finish_body(b, c); });
   }
   contact_diagnostics(d);

@@ -22,6 +22,7 @@
 #include <string>
 
 #include "common/affine.h"
+#include "common/stopwatch.h"
 #include "solver/body_math.h"
 #include "solver/constrained_solve.h"
 #include "solver/parallel.h"
@@ -455,6 +456,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     d.total_body_iterations += n_active;
 
     // Assemble and solve.
+    Lap lap;  // the step profile's sections (StepDiagnostics::time_*)
     for (int b = 0; b < n_; ++b) root[b] = island(b);
     system_.reset(n_, inactive);
     parallel_for(n_, threads_, [&](int b) {
@@ -485,6 +487,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     if (!grad_.allFinite()) throw SolverError("the gradient of Π is not finite");
     system_.add_blocks(blocks_);
     system_.finalize();
+    d.time_assembly += lap.split();
     d.residual = grad_.cwiseAbs().maxCoeff();
 
     const VecX rhs = -grad_;
@@ -513,13 +516,14 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
                                                   : ""));
     } else if (kind == LinearSolverKind::kDirect) {
       solver_used = "direct";
-      system_.solve_direct(rhs, dq_);
+      d.symbolic_analyses += system_.solve_direct(rhs, dq_);
     } else {
       solver_used = "pcg";
       d.pcg_iterations += system_.solve_pcg(rhs, dq_, settings_.pcg_tolerance,
                                             settings_.pcg_max_iterations, threads_);
     }
     if (!dq_.allFinite()) throw SolverError("the Newton direction is not finite");
+    d.time_linear_solve += lap.split();
 
     // Per-island convergence test on the direction, relative to each body's tolerances.
     island_st.setZero();
@@ -571,7 +575,9 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     // Step bounds (CCD) and links along the direction.
     std::vector<unsigned char> near;
     links.clear();
+    lap.split();
     const double global = step_bounds(x_, dq_, movable_, near, links);
+    d.time_ccd += lap.split();
     for (const BodyLink& l : links) merge_islands(l.a, l.b);
     // Islands moving now (a frozen island merged into an active one moves with it).
     for (int b = 0; b < n_; ++b) inactive[b] = !(movable_[b] && !frozen_[island(b)]);
@@ -585,6 +591,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     for (int b = 0; b < n_; ++b)
       if (!inactive[b] && island(b) == b) {
         d.min_term_max_step = std::min(d.min_term_max_step, alpha_[b]);
+        d.line_search_ccd_cuts += alpha_[b] < 1.0;
         if (alpha_[b] < 1.0) alpha_[b] *= settings_.ccd_safety;
         pending_[b] = 1;
         halved_[b] = 0;
@@ -644,6 +651,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
         } else {
           alpha_[r] *= 0.5;
           halved_[r] = 1;
+          ++d.line_search_halvings;
           any_pending = true;
         }
       }
@@ -695,6 +703,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       else
         damping_[r] = damping_[r] > 1e-3 ? 0.25 * damping_[r] : 0.0;
     }
+    d.time_line_search += lap.split();
     x_.swap(trial_);
     body_E_.swap(body_E_new_);
     rest = rest_new;
@@ -709,6 +718,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     // Accept: terms see the new iterate; islands they now link iterate again together.
     const double kappa_before = contact_ ? contact_->kappa() : 0.0;
     for (const auto& t : terms_) t->update(x_);
+    d.time_contact_update += lap.split();
     for (int r = 0; r < n_; ++r)
       if (!inactive[r] && island(r) == r && converged_[r]) frozen_[r] = 1;
     links.clear();
