@@ -86,7 +86,10 @@ def run_abdsim(
         s = view.sample(world.transforms()[body_ids], world.velocities()[body_ids], gravity)
         dist = getattr(world, "min_contact_distance", lambda: np.nan)()
         rec.add(time=world.time, contact_distance=dist, **s)
+        stored.append(stored_energy(world))
 
+    first_contact = None
+    stored: list[float] = []  # per sample, see stored_energy
     sample()
     wall = 0.0
     bar = tqdm(total=n_steps, desc="abdsim", unit="step", disable=not progress, leave=False)
@@ -94,11 +97,32 @@ def run_abdsim(
         t0 = time.perf_counter()
         world.step()
         wall += time.perf_counter() - t0
-        newton_iterations.append(int(getattr(world.diagnostics, "newton_iterations", 0)))
+        diag = world.diagnostics
+        newton_iterations.append(int(getattr(diag, "newton_iterations", 0)))
+        # every step: a contact shorter than the sampling interval is not missed
+        if first_contact is None and getattr(diag, "min_contact_distance", np.inf) < np.inf:
+            first_contact = world.time
         if on_step is not None:
             on_step(world)
         if k % every == 0:
             sample()
         bar.update(1)
     bar.close()
-    return rec.finish(wall, n_steps, newton_iterations=np.asarray(newton_iterations))
+    extra = {
+        "newton_iterations": np.asarray(newton_iterations),
+        "stored_energy": np.asarray(stored),
+    }
+    if callable(getattr(world, "min_contact_distance", None)):
+        extra["first_contact_time"] = float("inf") if first_contact is None else first_contact
+    return rec.finish(wall, n_steps, **extra)
+
+
+def stored_energy(world) -> float:
+    """Energy stored in the potentials at the current state (J): every body's shape energy
+    κ v̄ Ψ and the contact barrier's κ B (not friction's lagged dissipation potential). The
+    mechanical energy a contact may not increase is kinetic + gravity + this."""
+    contact = getattr(world, "contact", None)
+    barrier = float(contact.barrier_value(world.q)) if contact is not None else 0.0
+    diag = world.diagnostics
+    shape = float(diag.energies.get("shape", 0.0)) if diag is not None else 0.0
+    return shape + barrier

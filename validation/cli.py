@@ -115,10 +115,13 @@ def run(args: argparse.Namespace) -> int:
     t = res.metrics["timing"]
     if t:
         sims = t["simulators"]
-        for label, ratio, rate in (
-            ("stepping only", t["speed_vs_mujoco"], "steps_per_s"),
-            ("end to end", t["speed_vs_mujoco_end_to_end"], "end_to_end_steps_per_s"),
+        for label, key, rate in (
+            ("stepping only", "speed_vs_mujoco", "steps_per_s"),
+            ("end to end", "speed_vs_mujoco_end_to_end", "end_to_end_steps_per_s"),
         ):
+            if key not in t:
+                continue
+            ratio = t[key]
             print(
                 f"{describe(ratio, label)}: abdsim {sims['abdsim'][rate]:.0f} steps/s, "
                 f"MuJoCo {sims['mujoco'][rate]:.0f} steps/s"

@@ -214,3 +214,31 @@ def contact_checks(
             )
         )
     return checks, summary
+
+
+def energy_gain_check(abd: Trajectory, tol: Tolerances) -> tuple[Check, dict]:
+    """The whole run, contact included: abdsim's total energy (kinetic + gravity + the
+    energy stored in the shape and barrier potentials) may fall (BDF1 and contact damping
+    dissipate) but never rise between consecutive samples by more than ``tol.energy_gain``
+    of its largest magnitude. A contact that adds energy (a barrier stiffened while
+    compressed, a body started inside d̂ thrown up) fails it."""
+    stored = np.asarray(abd.extra.get("stored_energy", np.zeros(len(abd.energy))), float)
+    total = np.asarray(abd.energy, float) + stored
+    scale = max(float(np.max(np.abs(total))), 1e-12)
+    gains = np.diff(total) / scale
+    worst = float(gains.max()) if len(gains) else 0.0
+    at = float(abd.time[int(np.argmax(gains)) + 1]) if len(gains) else 0.0
+    check = Check(
+        "energy gain between samples (rel)",
+        "all",
+        max(worst, 0.0),
+        tol.energy_gain,
+        detail=f"largest at t = {at:.3f} s; total energy {total[0]:.4g} J -> {total[-1]:.4g} J",
+    )
+    return check, {
+        "energy_gain": worst,
+        "energy_gain_time": at,
+        "energy_start": float(total[0]),
+        "energy_end": float(total[-1]),
+        "energy_max": float(total.max()),
+    }

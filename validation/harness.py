@@ -12,6 +12,7 @@ from abdsim.validation import plots
 from abdsim.validation.compare import (
     Check,
     contact_checks,
+    energy_gain_check,
     free_flight_checks,
     inertia_checks,
 )
@@ -96,7 +97,7 @@ def validate(
         tolerances
         if isinstance(tolerances, Tolerances)
         else (Tolerances.from_file(tolerances) if tolerances is not None else Tolerances())
-    )
+    ).at_step(dt, integrator)
     path = Path(scene) if scene is not None else default_scene()
     kind = scene_kind(path)
     out_dir = Path(out)
@@ -149,6 +150,8 @@ def validate(
     if t_free >= sample_dt:  # a scene that starts in contact has no free-flight phase
         ff_checks, ff = free_flight_checks(abd, mj, pin, t_free, tol)
         checks += ff_checks
+    e_check, energy = energy_gain_check(abd, tol)
+    checks.append(e_check)
     contact = {}
     # Contact phases are compared only where abdsim simulates contact (a World that reports
     # contact distances); otherwise the report says the phase was not compared.
@@ -221,6 +224,7 @@ def validate(
         ),
         "inertia": inertia_rows,
         "free_flight": ff,
+        "energy": energy,
         "contact": contact,
         "timing": timing,
         "files": {k: v for k, v in plot_files.items()},

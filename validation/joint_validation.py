@@ -18,6 +18,7 @@ import numpy as np
 
 from abdsim.validation.compare import Check
 from abdsim.validation.report import write_metrics
+from abdsim.validation.speed import speed_vs_mujoco
 from abdsim.validation.tolerances import Tolerances
 
 
@@ -147,7 +148,10 @@ def validate_joints(
                 name: {"steps": n_steps, "wall_time": w, "steps_per_s": n_steps / max(w, 1e-12)}
                 for name, w in wall.items()
             },
-            "abdsim_over_mujoco": wall["abdsim"] / max(wall["mujoco"], 1e-12),
+            # one speed convention (abdsim.validation.speed): > 1 is faster
+            "speed_vs_mujoco": speed_vs_mujoco(
+                n_steps / max(wall["abdsim"], 1e-12), n_steps / max(wall["mujoco"], 1e-12)
+            ),
             "total_wall_time": time.perf_counter() - t_start,
         },
         "files": {"joints": plot.name},

@@ -112,11 +112,27 @@ def run_mujoco(
         )
         rec.add_rigid(data.time, s, gravity, dist)
 
+    def touching() -> bool:
+        return any(
+            c.dist <= 0.0 and (free_geom[c.geom1] or free_geom[c.geom2])
+            for c in data.contact[: data.ncon]
+        )
+
+    # First contact from every step (a contact shorter than the sampling interval counts).
+    first_contact = data.time if touching() else None
     sample()
     for k in range(1, n_steps + 1):
         t0 = time.perf_counter()
         mujoco.mj_step(model, data)
         wall += time.perf_counter() - t0
+        if first_contact is None and data.ncon and touching():
+            first_contact = data.time
         if k % every == 0:
             sample()
-    return rec.finish(wall, n_steps, integrator=integrator, transforms=np.stack(poses))
+    return rec.finish(
+        wall,
+        n_steps,
+        integrator=integrator,
+        transforms=np.stack(poses),
+        first_contact_time=float("inf") if first_contact is None else first_contact,
+    )

@@ -151,6 +151,18 @@ def write_report(path: Path, metrics: dict, checks: list[Check], plots: dict[str
         ]
         if plots.get("free_flight"):
             lines += [f"![free-flight errors]({plots['free_flight']})", ""]
+    e = metrics.get("energy")
+    if e:
+        lines += [
+            "## Energy",
+            "",
+            f"abdsim's total energy (kinetic + gravity + stored in the shape and barrier "
+            f"potentials) goes from {_fmt(e['energy_start'])} J to {_fmt(e['energy_end'])} J "
+            f"(largest {_fmt(e['energy_max'])} J); its largest rise between two samples is "
+            f"{_fmt(e['energy_gain'])} of its magnitude (at t = {_fmt(e['energy_gain_time'])} s). "
+            "Contact may remove energy (BDF1, contact damping), never add it.",
+            "",
+        ]
     c = metrics["contact"]
     if c:
         lines += [

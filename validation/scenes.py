@@ -15,10 +15,16 @@ def default_scene() -> Path:
     return SCENE_DIR / DEFAULT_SCENE
 
 
-#: Bundled scenes abdsim and MuJoCo simulate alike: all-free bodies, and the jointed double
-#: pendulum (its hinges as exact joints; free_bodies.xml, the loaders' example, has a hinged
-#: paddle that abdsim holds kinematic among free bodies, so it is not one of them).
-VALIDATION_SCENES = ("tossed_bodies.xml", "resting_bodies.xml", "double_pendulum.xml")
+#: Every bundled scene: free bodies in contact, bodies starting at rest on the ground, the
+#: loaders' example (free bodies and a hinged paddle that abdsim holds kinematic; its
+#: short contacts are found from every step, not from samples) and the jointed double
+#: pendulum (its hinges as exact joints).
+VALIDATION_SCENES = (
+    "tossed_bodies.xml",
+    "resting_bodies.xml",
+    "free_bodies.xml",
+    "double_pendulum.xml",
+)
 
 
 def bundled_scenes() -> list[Path]:

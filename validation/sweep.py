@@ -61,7 +61,7 @@ def run_case(case: SweepCase) -> dict:
 def default_cases(
     out: str | Path,
     duration: float,
-    dts: tuple[float, ...] = (1e-3, 2e-3),
+    dts: tuple[float, ...] = (1e-3, 1e-2),
     scenes: list[str] | None = None,
 ) -> list[SweepCase]:
     from abdsim.validation.scenes import bundled_scenes

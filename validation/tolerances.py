@@ -34,6 +34,10 @@ class Tolerances:
     #: max difference between abdsim's and MuJoCo's first-contact times [s] (abdsim's
     #: contact starts when a gap falls below d̂, MuJoCo's at zero distance)
     first_contact_time: float = 0.03
+    #: max rise of abdsim's total energy (kinetic + gravity + stored in the shape and barrier
+    #: potentials) between consecutive samples, relative to its largest magnitude, over the
+    #: whole run (contact must not add energy; dissipation is allowed)
+    energy_gain: float = 1e-3
     #: smallest admissible abdsim contact distance [m] (abdsim is intersection-free: > 0)
     min_contact_distance: float = 0.0
     #: max joint-coordinate difference to MuJoCo RK4 for jointed scenes [rad or m]
@@ -74,6 +78,33 @@ class Tolerances:
                 raise ValueError(f"tolerance {key!r} must be a number, got {value!r}")
             values[key] = float(value)
         return cls(**values)
+
+    #: time step the accuracy tolerances above are stated for [s]
+    REFERENCE_DT = 1e-3
+    #: tolerances on the integration error, which shrinks with the step as h^order
+    ACCURACY = (
+        "free_flight_position",
+        "free_flight_orientation",
+        "pinocchio_position",
+        "angular_momentum_drift",
+        "energy_drift",
+        "joint_position",
+    )
+
+    def at_step(self, dt: float, integrator: str = "bdf2") -> Tolerances:
+        """These tolerances for a run at time step ``dt``: the integration-error ones are
+        stated at h = 1e-3 s and grow as (h / 1e-3)^p above it (p = 2 for BDF2, 1 for
+        BDF1: the methods' orders), so a sweep at h = 0.01 asks the accuracy BDF2 can give
+        there; every other tolerance (contact, energy gain, inertia) is unchanged, and
+        nothing is loosened at h <= 1e-3."""
+        ratio = dt / self.REFERENCE_DT
+        if not ratio > 1.0:
+            return self
+        factor = ratio ** (2 if integrator == "bdf2" else 1)
+        values = self.as_dict()
+        for name in self.ACCURACY:
+            values[name] *= factor
+        return Tolerances(**values)
 
     def as_dict(self) -> dict[str, float]:
         return asdict(self)

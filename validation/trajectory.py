@@ -44,7 +44,11 @@ class Trajectory:
     extra: dict = field(default_factory=dict)
 
     def first_contact_time(self, threshold: float = 0.0) -> float:
-        """First sample time at which the contact distance is <= ``threshold`` (inf if never)."""
+        """Time of the first contact: from the simulator's every step when it recorded it
+        (``extra["first_contact_time"]``: a short contact between two samples is not missed),
+        else the first sample whose contact distance is <= ``threshold`` (inf if never)."""
+        if "first_contact_time" in self.extra:
+            return float(self.extra["first_contact_time"])
         hit = np.nonzero(np.nan_to_num(self.contact_distance, nan=np.inf) <= threshold)[0]
         return float(self.time[hit[0]]) if len(hit) else float("inf")
 

@@ -30,3 +30,14 @@ def test_default_cases_cover_bundled_scenes(tmp_path):
     scenes = {c.scene for c in cases}
     assert any(s.endswith("tossed_bodies.xml") for s in scenes)
     assert len(cases) == 2 * len(scenes)
+
+
+def test_the_default_sweep_runs_every_bundled_scene_at_dt_1e_2(tmp_path):
+    """Every bundled scene (free_bodies.xml included, which it used to leave out), at the
+    default step 1e-3 and at 0.01."""
+    from abdsim.validation.scenes import SCENE_DIR
+
+    cases = default_cases(tmp_path, 1.0)
+    bundled = {p.name for p in SCENE_DIR.glob("*.xml")}
+    assert {c.scene.rsplit("/", 1)[-1] for c in cases} == bundled
+    assert {c.dt for c in cases} == {1e-3, 1e-2}
