@@ -75,6 +75,10 @@ def urdf_inertia_comparisons(urdf: Path, out_dir: Path):
     ]
     try:
         mj_path = mujoco_ready_urdf(urdf, _package_dirs(urdf, None), out_dir)
+        notes.append(
+            f"{mj_path.name} (beside this report) is the URDF as MuJoCo compiled it: "
+            "package:// mesh paths resolved to files, which MuJoCo's URDF compiler needs"
+        )
         mj = mujoco.MjModel.from_xml_path(str(mj_path))
     except Exception as err:  # noqa: BLE001 - reported, Pinocchio's check still stands
         notes.append(f"MuJoCo rejected the URDF, so it is not compared: {err}")

@@ -252,6 +252,7 @@ class World:
         self._sensors.check_bodies(self.num_bodies)
         self._velocities = VelocityHistory()  # for the sensors' accelerations
         if scene.settings.contact and self._needs_contact(data, scene):
+            self._check_d_hat_scale(scene)
             try:
                 self._contact = self._core.enable_contact(self._contact_settings(scene))
             except ValueError as e:
@@ -300,6 +301,25 @@ class World:
             bad = next(j for j in joints if j.physics())
             raise ValueError(f"joint '{bad.name}': joint physics act on 1-dof joints only")
         return joint_set
+
+    def _check_d_hat_scale(self, scene: Scene) -> None:
+        """d̂ must be small against every dynamic body with a surface: a barrier that reaches across
+        a quarter of a part holds it off everything at a distance of its own size (a 1 cm
+        part with d̂ = 1 cm), a silently wrong answer rather than contact."""
+        d_hat = float(scene.settings.d_hat)
+        for h in self._handles:
+            fixed = np.asarray(h.sc.instances["is_fixed"]).astype(bool)
+            if len(h.sc.positions) < 2 or h.kinematic or fixed.all():
+                continue  # scripted and fixed parts (robot links) are not thrown off
+            extent = np.ptp(np.asarray(h.sc.positions, dtype=np.float64), axis=0)
+            size = float(np.linalg.norm(extent))
+            if size > 0 and d_hat > 0.25 * size:
+                raise ValueError(
+                    f"d_hat = {d_hat:g} m is not small against body {h.start} (its geometry "
+                    f"spans {size:.3g} m): the barrier would hold it off everything at a quarter "
+                    f"of its size; use a d_hat of about 1 % of the smallest part "
+                    f"(here {0.01 * size:.2g} m)"
+                )
 
     @staticmethod
     def _needs_contact(data: _core.SceneData, scene: Scene) -> bool:

@@ -131,3 +131,11 @@ def test_bdf2_restarts_with_bdf1_where_contact_begins_or_ends():
     assert len(changed) >= 2
     assert np.all(orders[changed[changed + 1 < len(orders)] + 1] == 1)
     assert (orders == 2).mean() > 0.9
+
+
+def test_a_d_hat_too_large_for_a_part_is_an_error():
+    """Scale: a 2 cm box behaves like a 20 cm one at d̂ = 1 mm (the tests above), and a d̂
+    that reaches across a quarter of a part is refused, naming the body and a d̂ to use."""
+    box_world(0.1, 2e-4, "bdf1", 1e-2)  # 2 x 1.6 x 1 cm with d̂ = 1 mm: fine
+    with pytest.raises(ValueError, match=r"d_hat = 0.01 m is not small against body 0"):
+        box_world(0.1, 2e-3, "bdf1", 1e-2, d_hat=1e-2)
