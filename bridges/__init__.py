@@ -3,7 +3,10 @@
 * :func:`load_urdf` (Pinocchio) and :func:`load_mjcf` (MuJoCo) turn robot and scene files
   into affine bodies with the source's exact mass properties; they return a
   :class:`LoadResult` (bodies, names, settings, ``result.scene``).
-* :class:`RobotDriver` / :class:`MjcfDriver` move kinematic bodies along a joint trajectory.
+* By default the loaders give dynamic articulations (``result.scene`` joins the bodies by the
+  source's joints; ``result.make_world()`` is a :class:`RobotWorld` with the MJCF actuators
+  on ``world.ctrl``); with ``kinematic=True``, :class:`RobotDriver` / :class:`MjcfDriver`
+  move the kinematic bodies along a joint trajectory.
 * :class:`McapLogger` / :func:`run_and_log` write MCAP logs that open in Foxglove;
   :func:`read_log` reads them back into numpy arrays.
 
@@ -26,6 +29,8 @@ _EXPORTS = {
     "load_urdf": "urdf",
     "load_mjcf": "mjcf",
     "build_articulated_scene": "articulated",
+    "RobotWorld": "robot_world",
+    "ActuatorInfo": "_mjcf_actuators",
     "KinematicDriver": "drivers",
     "RobotDriver": "drivers",
     "MjcfDriver": "drivers",
@@ -41,6 +46,7 @@ _EXPORTS = {
 }
 
 __all__ = [
+    "ActuatorInfo",
     "BodyKind",
     "Ground",
     "JointInfo",
@@ -52,6 +58,7 @@ __all__ = [
     "McapLogger",
     "MjcfDriver",
     "RobotDriver",
+    "RobotWorld",
     "build_articulated_scene",
     "load_mjcf",
     "load_urdf",
@@ -73,11 +80,13 @@ if TYPE_CHECKING:  # pragma: no cover
         LoaderError,
         LoadResult,
     )
+    from abdsim.bridges._mjcf_actuators import ActuatorInfo
     from abdsim.bridges.articulated import build_articulated_scene
     from abdsim.bridges.drivers import KinematicDriver, MjcfDriver, RobotDriver
     from abdsim.bridges.log_reader import LogData, log_info, read_log
     from abdsim.bridges.mcap_log import McapLogger, close_logs, run_and_log, step_and_log
     from abdsim.bridges.mjcf import load_mjcf
+    from abdsim.bridges.robot_world import RobotWorld
     from abdsim.bridges.robots import example_robot, example_robots
     from abdsim.bridges.urdf import load_urdf
 

@@ -87,6 +87,8 @@ class JointInfo:
         child: body index the joint moves.
         anchor: world position of the joint origin.
         axis: world unit axis (revolute, prismatic), else None.
+        source_id: the joint's id in the source model (MuJoCo joint id; Pinocchio joint
+            index), None where unknown.
     """
 
     name: str
@@ -95,6 +97,7 @@ class JointInfo:
     child: int
     anchor: np.ndarray
     axis: np.ndarray | None = None
+    source_id: int | None = None
 
 
 @dataclass
@@ -133,6 +136,11 @@ class LoadResult:
         contact_rules: the source's pairwise contact filter and friction
             (``abdsim.bridges._contact_rules.ContactRules``; None: every pair collides), written
             into the scene's ``contact_table`` with body ``i`` as contact element ``i``.
+        articulated: True (the loaders' default, ``kinematic=False``): jointed bodies are
+            dynamic and :attr:`scene` joins them (``bridges/articulated.py``); False:
+            ``kinematic=True``, they are scripted (``RobotDriver`` / ``MjcfDriver``).
+        actuators: the MJCF actuators abdsim models (``ActuatorInfo``, MuJoCo order), the
+            entries of ``world.ctrl`` of :meth:`make_world` (``bridges/_mjcf_actuators.py``).
     """
 
     source: Path
@@ -150,6 +158,8 @@ class LoadResult:
     sensors: list[Any] = field(default_factory=list)
     contact_rules: Any = None
     contact_damping: float | None = None
+    articulated: bool = False
+    actuators: list[Any] = field(default_factory=list)
     _scene: Any = field(default=None, repr=False)
 
     # -- lookup -------------------------------------------------------------------------------
@@ -203,19 +213,97 @@ class LoadResult:
     def build_scene(self, **settings: Any) -> Any:
         """Build (and keep as :attr:`scene`) an ``abdsim.Scene`` with every body.
 
-        ``settings`` are Scene settings overriding the source's (``dt=...``, ...).
+        ``settings`` are Scene settings overriding the source's (``dt=...``, ...). An
+        articulated result (the default) joins its bodies by the source's joints, with their
+        physics and the MJCF joint actuators (``build_articulated_scene``).
         """
-        from abdsim.bridges._world_adapter import build_scene
+        if self.articulated:
+            from abdsim.bridges.articulated import build_articulated_scene
 
-        self._scene = build_scene(self, **settings)
+            self._scene = build_articulated_scene(self, **settings)
+        else:
+            from abdsim.bridges._world_adapter import build_scene
+
+            self._scene = build_scene(self, **settings)
         return self._scene
 
     def make_world(self, **settings: Any) -> Any:
-        """An ``abdsim.World`` of a new :meth:`build_scene`; kinematic bodies are held at
-        their loaded poses until a driver moves them."""
+        """A World of a new :meth:`build_scene`. Articulated: a
+        :class:`abdsim.bridges.RobotWorld` (``world.ctrl`` = :attr:`actuators`, site
+        actuators included); kinematic: an ``abdsim.World`` whose kinematic bodies are held
+        at their loaded poses until a driver moves them."""
+        scene = self.build_scene(**settings)
+        if self.articulated:
+            from abdsim.bridges.robot_world import RobotWorld
+
+            return RobotWorld(scene, self.actuators)
         from abdsim.bridges._world_adapter import make_world
 
-        return make_world(self, self.build_scene(**settings))
+        return make_world(self, scene)
+
+    # -- joints and actuators -------------------------------------------------------------
+    @property
+    def joint_names(self) -> list[str]:
+        """Names of the abdsim joints, in the order of ``world.joint_positions()`` (free
+        joints are bodies' states, not abdsim joints: see :meth:`qpos_from_world`)."""
+        return [j.name for j in self.joints if j.type != "free"]
+
+    @property
+    def actuator_names(self) -> list[str]:
+        """Names of the modelled actuators, in the order of ``world.ctrl``."""
+        return [a.name for a in self.actuators]
+
+    @property
+    def actuator_ids(self) -> np.ndarray:
+        """MuJoCo actuator id of each ``world.ctrl`` entry: ``world.ctrl[:] =
+        data.ctrl[result.actuator_ids]``."""
+        return np.array([a.mj_id for a in self.actuators], dtype=np.int64)
+
+    def qpos_from_world(self, world: Any) -> np.ndarray:
+        """The source configuration of ``world``'s state: MuJoCo ``qpos`` (MJCF) or
+        Pinocchio ``q`` (URDF); see ``bridges/_joint_map.py`` for the conventions."""
+        from abdsim.bridges import _joint_map
+
+        return _joint_map.qpos_from_joint_positions(self, world.joint_positions(), world)
+
+    def qvel_from_world(self, world: Any) -> np.ndarray:
+        """The source velocity of ``world``'s state: MuJoCo ``qvel`` or Pinocchio ``v``."""
+        from abdsim.bridges import _joint_map
+
+        return _joint_map.qvel_from_joint_velocities(self, world.joint_velocities(), world)
+
+    def qpos_from_joint_positions(self, positions: Any) -> np.ndarray:
+        """MuJoCo ``qpos`` / Pinocchio ``q`` from ``world.joint_positions()``-shaped values
+        (free bodies keep their loaded coordinates)."""
+        from abdsim.bridges import _joint_map
+
+        return _joint_map.qpos_from_joint_positions(self, positions)
+
+    def joint_positions_from_qpos(self, qpos: Any) -> np.ndarray:
+        """``world.joint_positions()``-shaped values from MuJoCo ``qpos`` / Pinocchio ``q``."""
+        from abdsim.bridges import _joint_map
+
+        return _joint_map.joint_positions_from_qpos(self, qpos)
+
+    def qvel_from_joint_velocities(self, velocities: Any) -> np.ndarray:
+        """MuJoCo ``qvel`` / Pinocchio ``v`` from ``world.joint_velocities()``-shaped values
+        (free bodies' entries zero)."""
+        from abdsim.bridges import _joint_map
+
+        return _joint_map.qvel_from_joint_velocities(self, velocities)
+
+    def joint_velocities_from_qvel(self, qvel: Any) -> np.ndarray:
+        """``world.joint_velocities()``-shaped values from MuJoCo ``qvel`` / Pinocchio ``v``."""
+        from abdsim.bridges import _joint_map
+
+        return _joint_map.joint_velocities_from_qvel(self, qvel)
+
+    def set_world_state(self, world: Any, qpos: Any, qvel: Any = None) -> None:
+        """Put ``world`` at MuJoCo ``qpos``/``qvel`` (Pinocchio ``q``/``v``) through the
+        source's forward kinematics (every loaded body's pose and velocity)."""
+        from abdsim.bridges import _joint_map
+
+        _joint_map.set_world_state(self, world, qpos, qvel)
 
     def __repr__(self) -> str:
         kinds = {k: len(self.indices(k)) for k in BODY_KINDS}

@@ -221,3 +221,25 @@ def exclude_touching(bodies, rules: ContactRules, notes: list[str]) -> None:
             f"{len(found)} pair(s) of links touch (closer than {TOUCH_MARGIN:g} m) in the loaded "
             f"configuration and never collide: {found}"
         )
+
+
+def exclude_touching_ground(bodies, grounds, rules: ContactRules, notes: list[str]) -> None:
+    """Dynamic bodies that reach within ``TOUCH_MARGIN`` of a ground plane at load (a reacher
+    lying on its table) never touch the ground, with a note: IPC cannot start in contact."""
+    found = []
+    for i, b in enumerate(bodies):
+        if b.kind != "dynamic" or i in rules.ground_excluded:
+            continue
+        g = b.geometry
+        T = np.asarray(g.transforms[0])
+        V = np.asarray(g.positions) @ T[:3, :3].T + T[:3, 3]
+        for ground in grounds:
+            if float((V @ np.asarray(ground.normal)).min()) - ground.height < TOUCH_MARGIN:
+                rules.ground_excluded.add(i)
+                found.append(b.name)
+                break
+    if found:
+        notes.append(
+            f"{len(found)} body(ies) touch the ground (closer than {TOUCH_MARGIN:g} m) in the "
+            f"loaded configuration and never collide with it: {found}"
+        )

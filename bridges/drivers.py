@@ -50,6 +50,11 @@ class KinematicDriver:
         dt: float | None = None,
         body_offset: int = 0,
     ) -> None:
+        if getattr(result, "articulated", False):
+            raise ValueError(
+                f"{result.source.name} was loaded as a dynamic articulation (the default): its "
+                "links move by the dynamics; load it with kinematic=True to script them"
+            )
         self.result = result
         self.bodies = result.indices("kinematic")
         self.body_offset = int(body_offset)

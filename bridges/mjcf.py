@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import os
 import warnings
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -53,9 +54,15 @@ from abdsim.bridges._bodies import (
     transform_points,
     velocity_matrix,
 )
-from abdsim.bridges._contact_rules import mjcf_rules
+from abdsim.bridges._contact_rules import (
+    exclude_touching,
+    exclude_touching_ground,
+    mjcf_rules,
+)
+from abdsim.bridges._mjcf_actuators import read_actuators
 from abdsim.bridges._mjcf_geoms import heightfield_surface, plane_box_size
 from abdsim.bridges._mjcf_unsupported import unsimulated_notes
+from abdsim.bridges.articulated import check_articulation
 
 _PRIMITIVES = {"box": 3, "sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3}
 
@@ -69,8 +76,9 @@ def load_mjcf(
     include_visual: bool = False,
     open_mesh: str = "hull",
     skip_unsupported: bool = False,
+    kinematic: bool = False,
 ) -> LoadResult:
-    """Load an MJCF scene as affine bodies.
+    """Load an MJCF scene as affine bodies: by default a dynamic articulation.
 
     Args:
         path: the MJCF (MuJoCo XML) file.
@@ -83,6 +91,10 @@ def load_mjcf(
             warning) or ``"error"``.
         skip_unsupported: skip (with a warning) geoms of unsupported types (hfield, sdf, a
             plane on a moving body) instead of raising.
+        kinematic: False (default): bodies on hinge / slide / ball joints are dynamic and
+            ``result.scene`` joins them with the file's joint physics and actuators
+            (``bridges/articulated.py``, ``bridges/_mjcf_actuators.py``); True: they are
+            kinematic, scripted by :class:`abdsim.bridges.MjcfDriver`.
 
     Returns:
         A :class:`LoadResult` with ``dt = opt.timestep``, ``gravity = opt.gravity``, the
@@ -93,7 +105,8 @@ def load_mjcf(
         FileNotFoundError: the file, or a mesh file it names, does not exist.
         LoaderError (a ValueError): MuJoCo rejects the file (its message names the element;
             this covers malformed XML and non-physical inertias), an unsupported geom, a
-            dynamic body without collision geometry, an unknown keyframe.
+            dynamic body without collision geometry, an unknown keyframe; articulated, a body
+            moved by several joints (named with its joints; ``kinematic=True`` loads it).
     """
     import mujoco
 
@@ -115,13 +128,24 @@ def load_mjcf(
     # MuJoCo's collision filter and per-pair friction (bridges/_contact_rules.py).
     geom_ids = {loader.geom_name(g): g for g in range(model.ngeom)}
     rules = mjcf_rules(mujoco, model, bodies, geom_ids, [geom_ids[gr.name] for gr in grounds])
-    loader.notes.extend(unsimulated_notes(mujoco, model))  # bridges/_mjcf_unsupported.py
+    loader.notes.extend(unsimulated_notes(mujoco, model, articulated=not kinematic))
+    actuators = []
+    if not kinematic:  # bridges/_mjcf_actuators.py: what each actuator becomes, or why not
+        bodies = [_dynamic(b) for b in bodies]
+        # Jointed bodies that touch the world's or each other's geometry at load (a cart
+        # around its rails) start in contact MuJoCo resolves softly: they never collide.
+        exclude_touching(bodies, rules, loader.notes)
+        exclude_touching_ground(bodies, grounds, rules, loader.notes)
+        loaded = {j.name for j in joints if j.type in ("revolute", "prismatic")}
+        actuators = read_actuators(
+            mujoco, model, source_map, loader.pose_in_root, loaded, loader.notes
+        )
     contact_damping = solref_damping(model, loader.notes)
     for note in loader.notes:
         warnings.warn(note, stacklevel=2)
     if not bodies and not grounds:
         raise LoaderError(f"MJCF {mjcf} has no collision geometry: nothing to simulate")
-    return LoadResult(
+    result = LoadResult(
         source=mjcf,
         format="mjcf",
         bodies=bodies,
@@ -136,7 +160,16 @@ def load_mjcf(
         sensors=sensors,
         contact_rules=rules,
         contact_damping=contact_damping,
+        articulated=not kinematic,
+        actuators=actuators,
     )
+    if not kinematic:
+        check_articulation(result)  # a clear error now rather than at result.scene
+    return result
+
+
+def _dynamic(body: LoadedBody) -> LoadedBody:
+    return replace(body, kind="dynamic") if body.kind == "kinematic" else body
 
 
 def solref_damping(model, notes: list[str]) -> float | None:
@@ -411,6 +444,6 @@ class _MjcfLoader:
                 axis = np.array(d.xaxis[j]) if kind in ("revolute", "prismatic") else None
                 name = m.joint(j).name or f"joint{j}"
                 joints.append(
-                    JointInfo(name, kind, bodies[i].parent, i, np.array(d.xanchor[j]), axis)
+                    JointInfo(name, kind, bodies[i].parent, i, np.array(d.xanchor[j]), axis, j)
                 )
         return bodies, grounds, source_map, joints

@@ -27,6 +27,7 @@ import os
 import warnings
 import xml.etree.ElementTree as ET
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import NamedTuple
 
@@ -48,6 +49,7 @@ from abdsim.bridges._bodies import (
 )
 from abdsim.bridges._contact_rules import exclude_touching, urdf_rules
 from abdsim.bridges._urdf_visual import visual_only
+from abdsim.bridges.articulated import check_articulation
 
 _FREE_FLYER = "JointModelFreeFlyer"
 
@@ -64,8 +66,10 @@ def load_urdf(
     mass_density: float | None = None,
     open_mesh: str = "hull",
     srdf: str | os.PathLike | None = None,
+    kinematic: bool = False,
 ) -> LoadResult:
-    """Load a URDF robot as affine bodies placed at configuration ``q``.
+    """Load a URDF robot as affine bodies placed at configuration ``q``: by default a dynamic
+    articulation (every link group dynamic, joined by the URDF's joints).
 
     Args:
         path: the URDF file.
@@ -84,6 +88,10 @@ def load_urdf(
             convex hull, with a warning) or ``"error"``.
         srdf: an SRDF file whose ``<disable_collisions>`` pairs never collide (links joined
             by a joint never do either).
+        kinematic: False (default): the links are dynamic bodies and ``result.scene`` joins
+            them by the URDF's joints with ``<dynamics damping friction>`` and ``<limit lower
+            upper>`` (``bridges/articulated.py``); True: the links below the root are
+            kinematic, scripted by :class:`abdsim.bridges.RobotDriver`.
 
     Returns:
         A :class:`LoadResult`; ``result.model`` is the ``pinocchio.Model``,
@@ -93,7 +101,8 @@ def load_urdf(
         FileNotFoundError: the URDF or a collision mesh file does not exist.
         LoaderError (a ValueError): malformed XML, an element Pinocchio rejects, a link with a
             non-physical inertia, a group with geometry but no mass, an unsupported geometry or
-            joint, a bad ``q``; the message names the link / joint / geometry.
+            joint, a bad ``q``; articulated, a joint abdsim has no dynamic model of (planar,
+            a floating joint below the root); the message names the link / joint / geometry.
     """
     import pinocchio as pin
 
@@ -199,11 +208,13 @@ def load_urdf(
         bodies.append(body)
     if not bodies:
         raise LoaderError(f"URDF {urdf} has no link with collision geometry: nothing to simulate")
+    if not kinematic:  # before the touching pairs: every link now moves by the dynamics
+        bodies = [replace(b, kind="dynamic") if b.kind == "kinematic" else b for b in bodies]
     rules = _contact_rules(bodies, srdf)
     exclude_touching(bodies, rules, notes)  # bridges/_contact_rules.py
     for note in notes:
         warnings.warn(note, stacklevel=2)
-    return LoadResult(
+    result = LoadResult(
         source=urdf,
         format="urdf",
         bodies=bodies,
@@ -214,7 +225,11 @@ def load_urdf(
         source_map=body_of_joint,
         notes=notes,
         contact_rules=rules,
+        articulated=not kinematic,
     )
+    if not kinematic:
+        check_articulation(result)  # a clear error now rather than at result.scene
+    return result
 
 
 # ---------------------------------------------------------------------------------------------
@@ -521,7 +536,7 @@ def _joints(model, kin: Kinematics, body_of_joint: dict[int, int], bodies) -> li
                 kind, axis = "prismatic", R @ S[:3]
             axis = axis / np.linalg.norm(axis)
         anchor = np.array(kin.oMi[j].translation)
-        out.append(JointInfo(model.names[j], kind, bodies[i].parent, i, anchor, axis))
+        out.append(JointInfo(model.names[j], kind, bodies[i].parent, i, anchor, axis, j))
     return out
 
 

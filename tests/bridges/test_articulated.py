@@ -52,6 +52,8 @@ def test_mjcf_joint_physics_are_read(tmp_path):
 
 
 def test_body_on_two_hinges_is_refused(tmp_path):
+    """A body on two joints has no sound abdsim model: a LoaderError naming the file, the body
+    and its joints, at load; ``kinematic=True`` still loads it (scripted)."""
     xml = """<mujoco><worldbody><body name="b" pos="0 0 1">
       <joint name="a" type="hinge" axis="1 0 0"/><joint name="c" type="hinge" axis="0 1 0"/>
       <geom type="box" size="0.05 0.05 0.2" pos="0 0 -0.25"/></body></worldbody></mujoco>"""
@@ -59,6 +61,9 @@ def test_body_on_two_hinges_is_refused(tmp_path):
     path.write_text(xml)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        result = load_mjcf(path)
-    with pytest.raises(LoaderError, match="joint 'c'.*already the child"):
+        with pytest.raises(LoaderError, match=r"two\.xml: body 'b' moves on 2 joints \('a'.*'c'"):
+            load_mjcf(path)
+        result = load_mjcf(path, kinematic=True)
+    assert [b.kind for b in result.bodies] == ["kinematic"]
+    with pytest.raises(LoaderError, match="body 'b' moves on 2 joints"):
         build_articulated_scene(result, contact=False)

@@ -54,7 +54,7 @@ def _mujoco_pairs(path):
 def test_mjcf_filter_and_friction_match_mujoco_contacts(tmp_path):
     path = tmp_path / "filter.xml"
     path.write_text(FILTER_SCENE)
-    res = load_mjcf(path)
+    res = load_mjcf(path, kinematic=True)
     rules = res.contact_rules
     reference = _mujoco_pairs(path)
     names = {b.geoms[0]: i for i, b in enumerate(res.bodies)}
@@ -87,7 +87,7 @@ def test_mjcf_filter_and_friction_match_mujoco_contacts(tmp_path):
 def test_contact_table_receives_the_rules(tmp_path):
     path = tmp_path / "filter.xml"
     path.write_text(FILTER_SCENE)
-    res = load_mjcf(path)
+    res = load_mjcf(path, kinematic=True)
     scene = res.build_scene()
     i = {n: res.index(n) for n in "abdf"}
     assert scene.contact_table.get(i["a"], i["b"]) == (False, None)
@@ -104,7 +104,7 @@ def test_fish_and_humanoid_cmu_load_because_of_the_parent_filter():
     for name in ("fish.xml", "humanoid_CMU.xml"):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            res = load_mjcf(suite / name)
+            res = load_mjcf(suite / name, kinematic=True)
         world = res.make_world()  # raised "bodies ... intersect" before the filter
         world.step(1)
         assert world.diagnostics.min_contact_distance > 0

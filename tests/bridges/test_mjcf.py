@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import mujoco
 import numpy as np
 import pytest
@@ -35,13 +37,18 @@ def body_pose(d, b):
 @pytest.fixture
 def scene(scenes_dir):
     path = scenes_dir / "free_bodies.xml"
-    return path, load_mjcf(path), *reference(path)
+    return path, load_mjcf(path, kinematic=True), *reference(path)
 
 
 def test_bodies_kinds_settings_and_ground(scene):
-    _, res, m, _ = scene
+    path, res, m, _ = scene
     assert res.names == ["ramp", "box", "ball", "pill", "can", "egg", "gem", "dumbbell", "paddle"]
     assert [b.kind for b in res.bodies] == ["fixed"] + ["dynamic"] * 7 + ["kinematic"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        articulated = load_mjcf(path)  # the default: the hinged paddle is dynamic
+    assert [b.kind for b in articulated.bodies] == ["fixed"] + ["dynamic"] * 8
+    assert articulated.joint_names == [j.name for j in articulated.scene.joints]
     assert res.dt == m.opt.timestep == 0.01
     np.testing.assert_array_equal(res.gravity, [0, 0, -9.81])
     (ground,) = res.grounds

@@ -75,9 +75,16 @@ def test_tendons_equalities_and_actuators_are_named_and_warned_once(tmp_path):
     )
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        res = load_mjcf(path)
+        res = load_mjcf(path, kinematic=True)
     messages = [str(w.message) for w in caught]
     assert len(messages) == len(set(messages)) == len(res.notes)  # each note warned once
     assert any("1 tendon(s) not simulated: ['t']" in n for n in res.notes)
     assert any("equality constraint(s) not simulated: ['eq (joint)']" in n for n in res.notes)
     assert any("actuator(s) not simulated" in n and "'m1'" in n for n in res.notes)
+    # Articulated (the default) the motor is simulated: on world.ctrl, no note.
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = load_mjcf(path)
+    assert len(caught) == len({str(w.message) for w in caught}) == len(res.notes)
+    assert res.actuator_names == ["m1"] and not any("actuator" in n for n in res.notes)
+    assert any("1 tendon(s) not simulated: ['t']" in n for n in res.notes)

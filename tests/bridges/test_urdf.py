@@ -42,7 +42,7 @@ def test_mass_properties_equal_pinocchio_inertias(robot, robot_urdf, rel_err):
 
 
 def test_bodies_follow_pinocchio_joints_and_fixed_links_merge(robot_urdf):
-    res = load_urdf(robot_urdf("panda_description", "panda.urdf"))
+    res = load_urdf(robot_urdf("panda_description", "panda.urdf"), kinematic=True)
     model = res.model
     # One body per joint with geometry; panda_link8 and panda_hand are fixed to joint 7.
     hand = res.bodies[res.index("panda_hand")]
@@ -156,7 +156,7 @@ def test_floating_base_root_is_dynamic_with_its_velocity(data_dir, rel_err):
     q[7:] = [0.5, 0.0]
     v = np.zeros(model.nv)
     v[:6] = [0.3, -0.1, 0.2, 1.0, 2.0, -0.5]  # body frame (Pinocchio's free flyer)
-    res = load_urdf(data_dir / "arm.urdf", q=q, v=v, floating_base=True)
+    res = load_urdf(data_dir / "arm.urdf", q=q, v=v, floating_base=True, kinematic=True)
     assert [b.kind for b in res.bodies] == ["dynamic", "kinematic", "kinematic"]
     base = res.bodies[0]
     assert int(base.geometry.instances["is_fixed"][0]) == 0
@@ -171,7 +171,7 @@ def test_floating_base_root_is_dynamic_with_its_velocity(data_dir, rel_err):
 
 
 def test_robot_driver_follows_the_joint_trajectory_exactly(robot_urdf):
-    res = load_urdf(robot_urdf("ur_description", "ur5_robot.urdf"))
+    res = load_urdf(robot_urdf("ur_description", "ur5_robot.urdf"), kinematic=True)
     model = res.model
     data = model.createData()
     times = np.array([0.0, 0.5, 1.0, 2.0])
@@ -203,7 +203,7 @@ def test_robot_driver_follows_the_joint_trajectory_exactly(robot_urdf):
 
 
 def test_robot_driver_with_a_callable_trajectory(data_dir):
-    res = load_urdf(data_dir / "arm.urdf")
+    res = load_urdf(data_dir / "arm.urdf", kinematic=True)
     driver = RobotDriver(res, lambda t: np.array([np.sin(t), 0.01 * t]))
     T, V = driver.targets(0.7)
     data = res.model.createData()
@@ -219,7 +219,7 @@ def test_robot_driver_with_a_callable_trajectory(data_dir):
 
 
 def test_limbs_of_a_floating_base_follow_the_simulated_base(data_dir):
-    res = load_urdf(data_dir / "arm.urdf", floating_base=True)
+    res = load_urdf(data_dir / "arm.urdf", floating_base=True, kinematic=True)
     q = pin.neutral(res.model)
     q[7] = 0.3
     driver = RobotDriver(res, q)

@@ -114,7 +114,7 @@ def test_step_and_log_continues_one_file_per_world(tmp_path, scenes_dir):
 
 
 def test_driver_applies_and_attaches_to_a_world(tmp_path, data_dir):
-    res = load_urdf(data_dir / "arm.urdf")
+    res = load_urdf(data_dir / "arm.urdf", kinematic=True)
     traj = np.array([[0.0, 0.0], [1.0, 0.04]])
     driver = RobotDriver(res, traj, times=[0.0, 0.1])
     world = StandInWorld(res)
@@ -131,7 +131,7 @@ def test_driver_applies_and_attaches_to_a_world(tmp_path, data_dir):
 
 
 def test_floating_base_limbs_follow_the_simulated_base(data_dir):
-    res = load_urdf(data_dir / "arm.urdf", floating_base=True)
+    res = load_urdf(data_dir / "arm.urdf", floating_base=True, kinematic=True)
     q = np.array(res.q)
     driver = RobotDriver(res, q[None])
     world = StandInWorld(res)
@@ -189,7 +189,7 @@ needs_world = pytest.mark.skipif(not HAS_WORLD, reason="this abdsim has no Scene
 
 @needs_world
 def test_real_world_logged_run_equals_world_transforms_at_every_step(tmp_path, scenes_dir):
-    res = load_mjcf(scenes_dir / "free_bodies.xml")
+    res = load_mjcf(scenes_dir / "free_bodies.xml", kinematic=True)
     world = res.make_world()
     assert world.scene.dt == res.dt and np.array_equal(world.scene.gravity, res.gravity)
     np.testing.assert_array_equal(world.transforms(), res.transforms())
@@ -219,7 +219,7 @@ def test_real_world_logged_run_equals_world_transforms_at_every_step(tmp_path, s
 def test_real_world_kinematic_links_follow_the_joint_trajectory_exactly(tmp_path, data_dir):
     import pinocchio as pin
 
-    res = load_urdf(data_dir / "arm.urdf")
+    res = load_urdf(data_dir / "arm.urdf", kinematic=True)
     world = res.make_world(dt=0.01)
     q = lambda t: np.array([np.sin(3 * t), 0.03 * np.cos(5 * t)])  # noqa: E731
     driver = RobotDriver(res, q)
