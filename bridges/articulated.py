@@ -105,10 +105,14 @@ def check_articulation(result: LoadResult) -> None:
     per_child: dict[int, list[JointInfo]] = {}
     for j in result.joints:
         if j.type not in _KINDS and j.type != "free":
+            source = ""
+            if result.format == "urdf" and j.source_id is not None and result.model is not None:
+                source = f" (Pinocchio {result.model.joints[j.source_id].shortname()})"
             raise LoaderError(
                 f"{where}: joint {j.name!r} (body {result.bodies[j.child].name!r}): type "
-                f"{j.type!r} is not supported as a dynamic joint (load with kinematic=True to "
-                "script it)"
+                f"{j.type!r}{source} is not supported as a dynamic joint (revolute, "
+                "continuous, prismatic, spherical and a floating root are); load with "
+                "kinematic=True to script it"
             )
         per_child.setdefault(j.child, []).append(j)
     for child, joints in per_child.items():

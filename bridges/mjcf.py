@@ -59,6 +59,7 @@ from abdsim.bridges._contact_rules import (
     exclude_touching_ground,
     mjcf_rules,
 )
+from abdsim.bridges._inertia_proxy import inertia_box
 from abdsim.bridges._mjcf_actuators import read_actuators
 from abdsim.bridges._mjcf_geoms import heightfield_surface, plane_box_size
 from abdsim.bridges._mjcf_unsupported import unsimulated_notes
@@ -119,7 +120,9 @@ def load_mjcf(
         mujoco.mj_resetDataKeyframe(model, data, _keyframe_id(mujoco, model, keyframe))
     mujoco.mj_forward(model, data)
 
-    loader = _MjcfLoader(mujoco, model, data, kappa, constitution, open_mesh, notes=[])
+    loader = _MjcfLoader(
+        mujoco, model, data, kappa, constitution, open_mesh, notes=[], articulated=not kinematic
+    )
     bodies, grounds, source_map, joints = loader.run(include_visual, skip_unsupported)
     # <sensor> elements (bridges/mjcf_sensors.py): MuJoCo's layout, unsupported ones in notes.
     from abdsim.bridges.mjcf_sensors import read_sensors
@@ -242,7 +245,8 @@ def body_local_inertia(model, b: int) -> tuple[float, np.ndarray, np.ndarray]:
 
 
 class _MjcfLoader:
-    def __init__(self, mujoco, model, data, kappa, constitution, open_mesh, notes):
+    def __init__(self, mujoco, model, data, kappa, constitution, open_mesh, notes, articulated):
+        self.articulated = articulated
         self.mj = mujoco
         self.m = model
         self.d = data
@@ -391,7 +395,24 @@ class _MjcfLoader:
             kind, joint = self.group_kind(root)
             geoms = per_root.get(root, [])
             names = [self.body_name(b) for b in group]
-            if not geoms:
+            parts = []
+            for b in group:
+                mass, c, inertia = body_local_inertia(m, b)
+                X = self.pose_in_root(b, root)
+                parts.append(
+                    (mass, transform_points(X, c[None])[0], X[:3, :3] @ inertia @ X[:3, :3].T)
+                )
+            mass = combine_inertias(parts)
+            surfaces = []
+            if not geoms and kind == "kinematic" and self.articulated and mass[0] > 0:
+                # Articulated, a jointed group must carry its mass and its children's joints:
+                # its inertia box, colliding with nothing (bridges/_inertia_proxy.py).
+                surfaces = [inertia_box(f"{names[0]} (inertia box)", *mass)]
+                self.notes.append(
+                    f"body {names[0]!r} has mass {mass[0]:g} kg but no collision geometry: its "
+                    "surface is its equivalent inertia box, which collides with nothing"
+                )
+            elif not geoms:
                 note = (
                     f"body {names[0]!r} ({kind}) has no collision geometry: no body is made for it"
                 )
@@ -401,19 +422,10 @@ class _MjcfLoader:
                     )
                 self.notes.append(note)
                 continue
-            surfaces = []
             for g in geoms:
                 v, f = self.geom_shape(g)
                 X = self.pose_in_root(int(m.geom_bodyid[g]), root) @ self.geom_local_pose(g)
                 surfaces.append(Surface(self.geom_name(g), transform_points(X, v), f))
-            parts = []
-            for b in group:
-                mass, c, inertia = body_local_inertia(m, b)
-                X = self.pose_in_root(b, root)
-                parts.append(
-                    (mass, transform_points(X, c[None])[0], X[:3, :3] @ inertia @ X[:3, :3].T)
-                )
-            mass = combine_inertias(parts)
             R = np.array(d.xmat[root]).reshape(3, 3)
             omega, vel = self.world_velocity(root)
             source_map[root] = len(bodies)
@@ -429,10 +441,12 @@ class _MjcfLoader:
                     velocity=velocity_matrix(R, omega, vel),
                     links=names,
                     joint=joint,
-                    friction=float(max(m.geom_friction[g, 0] for g in geoms)),
+                    friction=float(max((m.geom_friction[g, 0] for g in geoms), default=0.0)),
                     notes=self.notes,
                 )
             )
+            if not geoms:  # an inertia box: no geom, so MuJoCo's filter pairs it with nothing
+                bodies[-1].geoms, bodies[-1].geom_ranges, bodies[-1].friction = (), {}, None
         joints = []
         for root, i in source_map.items():
             parent = int(m.body_weldid[int(m.body_parentid[root])])

@@ -48,6 +48,7 @@ from abdsim.bridges._bodies import (
     velocity_matrix,
 )
 from abdsim.bridges._contact_rules import exclude_touching, urdf_rules
+from abdsim.bridges._inertia_proxy import inertia_box
 from abdsim.bridges._urdf_visual import visual_only
 from abdsim.bridges.articulated import check_articulation
 
@@ -156,8 +157,18 @@ def load_urdf(
         links = links_of.get(j, [])
         geoms = geoms_of.get(j, [])
         inertia = model.inertias[j]
+        proxy = False
         if not geoms:
-            if j > 0 and inertia.mass > 0:
+            if j > 0 and inertia.mass > 0 and not kinematic:
+                # Articulated, the group must carry its mass and its children's joint: a body
+                # whose surface is its inertia box, colliding with nothing (_inertia_proxy.py).
+                proxy = True
+                notes.append(
+                    f"joint {model.names[j]!r} (links {links}) has mass {inertia.mass:g} kg but "
+                    "no collision geometry: its body's surface is its equivalent inertia box, "
+                    "which collides with nothing"
+                )
+            elif j > 0 and inertia.mass > 0:
                 what = "dynamic" if _is_floating_root(model, j) else "kinematic"
                 note = (
                     f"joint {model.names[j]!r} (links {links}) has mass {inertia.mass:g} kg but "
@@ -166,10 +177,23 @@ def load_urdf(
                 if what == "dynamic":
                     raise LoaderError(f"URDF {urdf.name}: {note}")
                 notes.append(note)
-            continue
-        name = model.frames[int(geoms[0].parentFrame)].name
+                continue
+            else:
+                continue
+        if proxy:
+            name = links[0] if links else model.names[j]
+            surfaces = [
+                inertia_box(
+                    f"{name} (inertia box)",
+                    inertia.mass,
+                    np.array(inertia.lever),
+                    np.array(inertia.inertia),
+                )
+            ]
+        else:
+            name = model.frames[int(geoms[0].parentFrame)].name
+            surfaces = [_geometry_surface(pin, g, model, open_mesh, notes) for g in geoms]
         links = [name] + [n for n in links if n != name]
-        surfaces = [_geometry_surface(pin, g, model, open_mesh, notes) for g in geoms]
         if j == 0:
             # The fixed root: Pinocchio's universe inertia when the URDF gives one (its mass
             # plays no role for a fixed body), else the surface's mass.
@@ -204,6 +228,16 @@ def load_urdf(
             notes=notes,
         )
         body.parent = _parent_body(model, j, body_of_joint)
+        if proxy:
+            body.geoms, body.geom_ranges = (), {}
+        parent_joint = int(model.parents[j])
+        if not kinematic and parent_joint > 0 and parent_joint not in body_of_joint:
+            raise LoaderError(
+                f"URDF {urdf.name}: joint {model.names[j]!r} hangs from joint "
+                f"{model.names[parent_joint]!r}, whose links have neither mass nor collision "
+                "geometry: no body can carry that joint (a massless in-between body has no "
+                "sound affine-body model); load with kinematic=True to script it"
+            )
         body_of_joint[j] = len(bodies)
         bodies.append(body)
     if not bodies:
@@ -211,6 +245,9 @@ def load_urdf(
     if not kinematic:  # before the touching pairs: every link now moves by the dynamics
         bodies = [replace(b, kind="dynamic") if b.kind == "kinematic" else b for b in bodies]
     rules = _contact_rules(bodies, srdf)
+    for i, body in enumerate(bodies):
+        if not body.geoms:  # an inertia box (_inertia_proxy.py) collides with nothing
+            rules.excluded.update((min(i, k), max(i, k)) for k in range(len(bodies)) if k != i)
     exclude_touching(bodies, rules, notes)  # bridges/_contact_rules.py
     for note in notes:
         warnings.warn(note, stacklevel=2)

@@ -132,8 +132,48 @@ def test_link_with_mass_but_no_geometry_is_reported(tmp_path):
     )
     path = urdf(tmp_path, link("base"), ghost, joints=revolute("base", "ghost"))
     with pytest.warns(UserWarning, match="'ghost'.*no collision geometry"):
-        res = load_urdf(path)
+        res = load_urdf(path, kinematic=True)
     assert res.names == ["base"] and "ghost" in res.notes[0]
+    # Articulated, the link keeps its mass and joint: a body whose surface is its inertia box
+    # (here the 1 kg, 0.01 kg m² cube of side sqrt(0.06)), colliding with nothing.
+    with pytest.warns(UserWarning, match="'ghost'.*inertia box, which collides with nothing"):
+        res = load_urdf(path)
+    assert res.names == ["base", "ghost"] and res.bodies[1].geoms == ()
+    assert res.bodies[1].geometry.meta["mass"] == pytest.approx(1.0)
+    side = np.ptp(res.bodies[1].geometry.positions, axis=0)
+    np.testing.assert_allclose(side, np.sqrt(0.06), rtol=1e-12)
+    assert (0, 1) in res.contact_rules.excluded
+    assert res.joint_names == ["ghost_joint"]
+
+
+def test_massless_link_between_joints_is_refused_naming_them(tmp_path):
+    ghost = link("ghost", mass=0.0).replace(
+        '<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>', ""
+    )
+    joints = revolute("base", "ghost") + revolute("ghost", "tip")
+    path = urdf(tmp_path, link("base"), ghost, link("tip"), joints=joints, name="gap.urdf")
+    with pytest.raises(
+        LoaderError,
+        match="gap.urdf: joint 'tip_joint' hangs from joint "
+        "'ghost_joint', whose links have neither mass nor collision",
+    ):
+        load_urdf(path)
+    assert load_urdf(path, kinematic=True).names == ["base", "tip"]
+
+
+def test_planar_joint_is_refused_as_articulation_naming_it(tmp_path):
+    joint = (
+        '<joint name="plane" type="planar"><parent link="base"/><child link="puck"/>'
+        '<axis xyz="0 0 1"/></joint>'
+    )
+    path = urdf(tmp_path, link("base"), link("puck"), joints=joint, name="planar.urdf")
+    with pytest.raises(
+        LoaderError,
+        match=r"planar.urdf: joint 'plane' \(body 'puck'\): type "
+        r"'other' \(Pinocchio JointModelPlanar\) is not supported",
+    ):
+        load_urdf(path)
+    assert [b.kind for b in load_urdf(path, kinematic=True).bodies] == ["fixed", "kinematic"]
 
 
 def test_no_collision_geometry_at_all(tmp_path):
@@ -168,7 +208,9 @@ def test_open_mesh_is_hulled_with_a_warning_or_refused(tmp_path, data_dir):
 
 
 def test_driver_rejects_bad_trajectories(data_dir):
-    res = load_urdf(data_dir / "arm.urdf")
+    with pytest.raises(ValueError, match="arm.urdf was loaded as a dynamic articulation"):
+        RobotDriver(load_urdf(data_dir / "arm.urdf"), np.zeros((3, 2)), dt=0.1)
+    res = load_urdf(data_dir / "arm.urdf", kinematic=True)
     with pytest.raises(ValueError, match=r"shape \(T, 2\)"):
         RobotDriver(res, np.zeros((3, 5)), dt=0.1)
     with pytest.raises(ValueError, match="times= or a uniform dt="):
@@ -259,3 +301,27 @@ def test_open_mjcf_mesh_refused_when_asked(tmp_path):
 def test_copied_scene_loads_from_anywhere(tmp_path, scenes_dir):
     shutil.copy(scenes_dir / "free_bodies.xml", tmp_path / "copy.xml")
     assert len(load_mjcf(tmp_path / "copy.xml").bodies) == 9
+
+
+def test_jointed_mjcf_body_without_geometry(tmp_path):
+    """Articulated, a hinged body with mass but no geom carries its child's joint as an inertia
+    box that collides with nothing; a massless one is refused (by MuJoCo) naming it."""
+    chain = (
+        '<body name="upper" pos="0 0 1"><joint name="a" type="hinge"/>{inertial}'
+        '<body name="lower" pos="0 0 -0.3"><joint name="b" type="hinge"/>'
+        '<geom type="sphere" size="0.05"/></body></body>'
+    )
+    heavy = mjcf(
+        tmp_path,
+        chain.format(inertial='<inertial pos="0 0 0" mass="2" diaginertia="0.02 0.03 0.04"/>'),
+    )
+    with pytest.warns(UserWarning, match="'upper' has mass 2 kg but no collision geometry"):
+        res = load_mjcf(heavy)
+    assert res.names == ["upper", "lower"] and res.joint_names == ["a", "b"]
+    assert res.bodies[0].geometry.meta["mass"] == pytest.approx(2.0)
+    assert (0, 1) in res.contact_rules.excluded
+    res.make_world().step(3)
+    # A massless hinged body is MuJoCo's own refusal, naming the file and the body.
+    massless = mjcf(tmp_path, chain.format(inertial=""), name="massless.xml")
+    with pytest.raises(LoaderError, match="massless.xml.*\n.*Element name 'upper'"):
+        load_mjcf(massless)

@@ -1,10 +1,13 @@
-"""Every real robot file loads, builds a World and steps without intersection (issue 11).
+"""Every real robot file loads as a dynamic articulation (the loaders' default), builds a
+World and steps without intersection (issue 11).
 
 Walks every URDF of the installed example-robot-data and every dm_control suite XML (the
 ``dm_control`` package of the test extra; skipped with a message when missing). A file that
 Pinocchio itself rejects, or that has no geometry at all, must fail with a LoaderError naming
-the file. The steps' gaps are abdsim's; at the end coal checks, independently, that no pair
-of bodies that may touch (one of them moving) intersects.
+the file. dm_control files with a body on several joints (planar roots, two-hinge hips) are
+refused by name as articulations (abdsim joins two bodies by one joint) and walked
+``kinematic=True`` instead. The steps' gaps are abdsim's; at the end coal checks,
+independently, that no pair of bodies that may touch (one of them moving) intersects.
 
 Files whose load takes long (dense meshes) are the heavy part: run with ABDSIM_HEAVY_TESTS=1.
 """
@@ -45,6 +48,22 @@ HEAVY_FILES = {
     "ur3_joint_limited_robot.urdf",
     "ur3_robot.urdf",
     "dog.xml",
+}
+#: dm_control files with a body on several joints: the articulation is refused naming it.
+SEVERAL_JOINTS = {
+    "ball_in_cup.xml": "cup",
+    "cheetah.xml": "torso",
+    "dog.xml": "L_1",
+    "fish.xml": "tail1",
+    "hopper.xml": "torso",
+    "humanoid.xml": "lower_waist",
+    "humanoid_CMU.xml": "lfemur",
+    "manipulator.xml": "ball",
+    "point_mass.xml": "pointmass",
+    "quadruped.xml": "hip_front_left",
+    "stacker.xml": "box0",
+    "swimmer.xml": "head",
+    "walker.xml": "torso",
 }
 #: Files that are not loadable robots, with what the error must say.
 REJECTED = {
@@ -140,6 +159,8 @@ def test_every_example_robot_urdf_loads_and_steps(path):
             return
         result = load_urdf(path)
     assert len(result.bodies) >= 1
+    assert all(b.kind != "kinematic" for b in result.bodies)
+    assert len(result.scene.joints) == len(result.joint_names)
     assert _simulate(result) > 0
 
 
@@ -161,7 +182,14 @@ def test_every_example_robot_urdf_loads_floating_and_steps(path):
 def test_every_dm_control_suite_xml_loads_and_steps(path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        result = load_mjcf(path)
+        if path.name in SEVERAL_JOINTS:
+            body = SEVERAL_JOINTS[path.name]
+            with pytest.raises(LoaderError, match=f"{path.name}: body '{body}' moves on"):
+                load_mjcf(path)
+            result = load_mjcf(path, kinematic=True)
+        else:
+            result = load_mjcf(path)
+            assert result.articulated and result.joint_names
     assert _simulate(result) > 0
 
 
