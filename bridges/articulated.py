@@ -15,6 +15,7 @@ from the bodies' states.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import replace
 from typing import Any
 
@@ -43,11 +44,19 @@ def _limits(
         moved.append(f"upper {hi + q0:g} -> {q0 + _LIMIT_CLEARANCE:g}")
         hi = _LIMIT_CLEARANCE
     if moved:
-        result.notes.append(
+        _note(
+            result,
             f"joint {joint.name!r}: the loaded position {q0:g} is on or beyond its limit(s); "
-            f"moved {', '.join(moved)} so that it starts inside them"
+            f"moved {', '.join(moved)} so that it starts inside them",
         )
     return (lo, hi)
+
+
+def _note(result: LoadResult, note: str) -> None:
+    """A note found while building the scene: kept in ``result.notes`` and warned, once."""
+    if note not in result.notes:
+        result.notes.append(note)
+        warnings.warn(note, stacklevel=4)
 
 
 def _mjcf_physics(result: LoadResult, joint: JointInfo) -> dict[str, Any]:
@@ -91,9 +100,10 @@ def _urdf_physics(result: LoadResult, joint: JointInfo) -> dict[str, Any]:
             q0 = float(result.q[iq]) if result.q is not None else 0.0
             physics["limits"] = _limits(result, joint, lo, hi, q0)
         elif np.isfinite(lo) and lo == hi:
-            result.notes.append(
+            _note(
+                result,
                 f"joint {joint.name!r}: <limit lower={lo:g} upper={hi:g}> is empty: the joint "
-                "is left without position limits (as an unlimited revolute)"
+                "is left without position limits (as an unlimited revolute)",
             )
     return physics
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import abdsim
-from abdsim.bridges import LoaderError, build_articulated_scene, load_mjcf
+from abdsim.bridges import LoaderError, build_articulated_scene, load_mjcf, load_urdf
 
 
 def test_double_pendulum_mjcf_matches_mujoco_rk4(scenes_dir):
@@ -67,3 +67,64 @@ def test_body_on_two_hinges_is_refused(tmp_path):
     assert [b.kind for b in result.bodies] == ["kinematic"]
     with pytest.raises(LoaderError, match="body 'b' moves on 2 joints"):
         build_articulated_scene(result, contact=False)
+
+
+_URDF = """<?xml version="1.0"?><robot name="r">
+  <link name="base"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01"
+    iyz="0" izz="0.01"/></inertial><collision><geometry><box size="0.1 0.1 0.1"/></geometry>
+    </collision></link>
+  {links}{joints}</robot>"""
+
+
+def _urdf_link(name: str, z: float) -> str:
+    return (
+        f'<link name="{name}"><inertial><origin xyz="0 0 {z}"/><mass value="0.5"/><inertia '
+        'ixx="0.004" ixy="0" ixz="0" iyy="0.004" iyz="0" izz="0.001"/></inertial><collision>'
+        f'<origin xyz="0 0 {z}"/><geometry><box size="0.04 0.04 0.2"/></geometry></collision>'
+        "</link>"
+    )
+
+
+def _urdf_joint(name, kind, parent, child, z, extra=""):
+    return (
+        f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+        f'<origin xyz="0 0 {z}"/><axis xyz="1 0 0"/>{extra}</joint>'
+    )
+
+
+def test_urdf_joint_physics_are_read(tmp_path):
+    """URDF <dynamics damping friction> and <limit lower upper> relative to the loaded q;
+    continuous joints and an empty limit (lower == upper) have none; a loaded position on a
+    limit moves the limit out with a note."""
+    links = "".join(_urdf_link(n, -0.15) for n in ("a", "b", "c", "d"))
+    joints = (
+        _urdf_joint("hinge", "revolute", "base", "a", -0.1,
+                    '<limit lower="-1" upper="1.5" effort="1" velocity="1"/>'
+                    '<dynamics damping="0.3" friction="0.2"/>')
+        + _urdf_joint("spin", "continuous", "a", "b", -0.35, '<dynamics damping="0.1"/>')
+        + _urdf_joint("empty", "revolute", "b", "c", -0.35,
+                      '<limit lower="0" upper="0" effort="1" velocity="1"/>')
+        + _urdf_joint("slide", "prismatic", "c", "d", -0.35,
+                      '<limit lower="0" upper="0.2" effort="1" velocity="1"/>')
+    )  # fmt: skip
+    path = tmp_path / "r.urdf"
+    path.write_text(_URDF.format(links=links, joints=joints))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = load_urdf(path, q=[0.25, 1.0, 0.0, 0.0, 0.0])
+        scene = result.scene
+    assert result.joint_names == ["hinge", "spin", "empty", "slide"]
+    hinge, spin, empty, slide = scene.joints
+    assert hinge.kind == spin.kind == empty.kind == "revolute" and slide.kind == "prismatic"
+    assert (hinge.damping, hinge.frictionloss) == (0.3, 0.2)
+    assert hinge.limits == pytest.approx((-1.25, 1.25))  # relative to the loaded 0.25 rad
+    assert spin.damping == 0.1 and spin.limits is None  # continuous
+    assert empty.limits is None
+    assert slide.limits == pytest.approx((-2e-3, 0.2))  # loaded on its lower limit
+    messages = [str(w.message) for w in caught]
+    assert any("'empty'" in m and "is empty" in m for m in messages)
+    assert any("'slide'" in m and "lower 0 -> -0.002" in m for m in messages)
+    # Pinocchio's q: the continuous joint as (cos, sin) of its angle (loaded at 0).
+    q = result.qpos_from_joint_positions([0.1, 0.2, 0.0, 0.05])
+    assert q == pytest.approx([0.35, np.cos(0.2), np.sin(0.2), 0.0, 0.05])
+    abdsim.World(scene).step(3)
