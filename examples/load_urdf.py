@@ -26,7 +26,7 @@ def main() -> None:
     parser.add_argument("--duration", type=float, default=4.0)
     args = parser.parse_args()
 
-    result = load_urdf(args.urdf or example_robot("panda"))
+    result = load_urdf(args.urdf or example_robot("panda"), kinematic=True)  # scripted links
     model = result.model
     print(result)
     print(f"{'body':<20} {'kind':<10} {'mass [kg]':>10} {'|Δ inertia|':>12}  links")

@@ -113,7 +113,7 @@ def build_abdsim(
         raise ValueError(f"{path}: the scene has nothing dynamic (no body with a free joint)")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        loaded = load_mjcf(path)
+        loaded = load_mjcf(path, kinematic=True)  # free bodies validated; hinged ones scripted
     ids = []
     for name in mj_names:
         try:

@@ -261,7 +261,7 @@ def test_robot_driver_without_pinocchio_data_matches_forward_kinematics(robot_ur
     they use instead gives Pinocchio's poses and velocities (UR5, forced onto that path)."""
     import abdsim.bridges.drivers as drivers
 
-    res = load_urdf(robot_urdf("ur_description", "ur5_robot.urdf"))
+    res = load_urdf(robot_urdf("ur_description", "ur5_robot.urdf"), kinematic=True)
     samples = np.array([random_q(res.model, seed=s) for s in range(2)])
     with_data = RobotDriver(res, samples, times=[0.0, 1.0])
     monkeypatch.setattr(drivers, "_DATA_MAX_NV", 0)
