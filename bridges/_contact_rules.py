@@ -216,10 +216,28 @@ def exclude_touching(bodies, rules: ContactRules, notes: list[str]) -> None:
             ):
                 rules.excluded.add(pair)
                 found.append((bodies[pair[0]].name, bodies[pair[1]].name))
+    # A link wholly inside another's solid (talos: a sensor box inside the torso) crosses no
+    # surface, so only containment finds it (abdsim.geometry.containment).
+    from abdsim.geometry.containment import nested_pairs
+
+    V = []
+    for b in bodies:
+        T = np.asarray(b.geometry.transforms[0])
+        V.append(np.asarray(b.geometry.positions) @ T[:3, :3].T + T[:3, 3])
+    boxes = np.array([[v.min(axis=0), v.max(axis=0)] for v in V])
+    solids = {i: (V[i], np.asarray(b.geometry.triangles)) for i, b in enumerate(bodies)}
+    moving_set = set(moving)
+
+    def may_collide(a: int, b: int) -> bool:
+        return (a in moving_set or b in moving_set) and _pair(a, b) not in rules.excluded
+
+    for inner, outer in nested_pairs(boxes, solids, np.array([v[0] for v in V]), may_collide):
+        rules.excluded.add(_pair(inner, outer))
+        found.append((bodies[inner].name, bodies[outer].name))
     if found:
         notes.append(
-            f"{len(found)} pair(s) of links touch (closer than {TOUCH_MARGIN:g} m) in the loaded "
-            f"configuration and never collide: {found}"
+            f"{len(found)} pair(s) of links touch (closer than {TOUCH_MARGIN:g} m) or nest in "
+            f"the loaded configuration and never collide: {found}"
         )
 
 

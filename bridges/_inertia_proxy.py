@@ -17,6 +17,9 @@ from abdsim.bridges._bodies import Surface, primitive_surface, transform_points
 #: Smallest half-extent of a proxy box, as a fraction of its largest (a point mass or a rod
 #: still gets a solid).
 MIN_ASPECT = 1e-2
+#: Smallest half-extent (m): a box that collides with nothing still meets the World's check
+#: that contact's reach d_hat is small against every dynamic body (d_hat up to 5 mm).
+MIN_HALF_EXTENT = 1e-2
 
 
 def inertia_box(name: str, mass: float, centre: np.ndarray, inertia: np.ndarray) -> Surface:
@@ -26,7 +29,7 @@ def inertia_box(name: str, mass: float, centre: np.ndarray, inertia: np.ndarray)
         frame[:, 2] *= -1
     second = np.maximum(0.5 * (moments.sum() - 2.0 * moments), 0.0)  # Σ_i = m a_i² / 3
     half = np.sqrt(3.0 * second / max(mass, 1e-12))
-    half = np.maximum(half, MIN_ASPECT * max(half.max(), 1e-3))
+    half = np.maximum(half, max(MIN_ASPECT * half.max(), MIN_HALF_EXTENT))
     v, f = primitive_surface("box", half, name)
     T = np.eye(4)
     T[:3, :3], T[:3, 3] = frame, centre
