@@ -27,28 +27,41 @@ from .conftest import ROBOTS
 
 STEPS = 100
 HEAVY = os.environ.get("ABDSIM_HEAVY_TESTS") == "1"
-#: Files whose load (mesh repair, hulls of dense meshes) takes about a second or more here.
-HEAVY_FILES = {
-    "TwoDofs.urdf",
-    "alex_nub_hands.urdf",
-    "alex_psyonic_hands.urdf",
-    "alex_sake_hands.urdf",
-    "anymal-kinova.urdf",
-    "borinot_flying_arm_2.urdf",
-    "centauro.urdf",
-    "g1_29dof_rev_1_0.urdf",
-    "g1_29dof_with_hand_rev_1_0.urdf",
-    "human.urdf",
-    "kinova.urdf",
-    "romeo.urdf",
-    "romeo_small.urdf",
-    "so101.urdf",
-    "tiago_pro.urdf",
-    "ur3_gripper.urdf",
-    "ur3_joint_limited_robot.urdf",
-    "ur3_robot.urdf",
-    "dog.xml",
+#: The default (CI) walk: URDFs that load and step 100 dynamic steps in about a second or
+#: less here; every other file walks with ABDSIM_HEAVY_TESTS=1 (dense meshes, self-contact of
+#: hands and humanoids take seconds to minutes).
+LIGHT_URDFS = {
+    "a1.urdf",
+    "allegro_left_hand.urdf",
+    "anymal.urdf",
+    "b1.urdf",
+    "bolt.urdf",
+    "double_pendulum.urdf",
+    "double_pendulum_continuous.urdf",
+    "finger_edu.urdf",
+    "go1.urdf",
+    "hyq_no_sensors.urdf",
+    "panda.urdf",
+    "quadrotor_base.urdf",
+    "simple_humanoid.urdf",
+    "talos_left_arm.urdf",
+    "ur3.urdf",
+    "ur5_robot.urdf",
 }
+#: dm_control files whose load takes long (dense meshes).
+HEAVY_XMLS = {"dog.xml"}
+#: URDFs abdsim cannot articulate, with what the LoaderError must say (walked kinematic).
+NOT_ARTICULATED = {
+    # Hips and shoulders as chains of massless links: a massless in-between body has no sound
+    # affine-body model.
+    "human.urdf": "joint 'left_hip_Y' hangs from joint 'left_hip_X', whose links have neither",
+}
+#: URDFs whose 100 dynamic steps end in a SolverError at the default settings (a solver
+#: robustness finding of issue 11; deterministic, so a strict xfail).
+SOLVER_FAILURES = {"romeo_small.urdf", "alexander_v1.lowerBodyOnly.urdf"}
+#: URDFs with a link smaller than 4 d_hat (tiago's 2 mm finger boxes): the World refuses the
+#: default d_hat naming the body, and they walk with a smaller one.
+SMALL_PARTS = {"tiago.urdf": 5e-4, "tiago_dual.urdf": 5e-4}
 #: dm_control files with a body on several joints: the articulation is refused naming it.
 SEVERAL_JOINTS = {
     "ball_in_cup.xml": "cup",
@@ -68,7 +81,6 @@ SEVERAL_JOINTS = {
 #: Files that are not loadable robots, with what the error must say.
 REJECTED = {
     "ur3.urdf": "has no <link>",  # an empty xacro leftover: Pinocchio rejects it too
-    "simple_humanoid_classical.urdf": "no link with collision geometry",  # no geometry at all
 }
 
 
@@ -89,17 +101,26 @@ def _id(p: Path) -> str:
 
 
 def _params(paths: list[Path]) -> list:
-    marks = lambda p: (  # noqa: E731
-        [pytest.mark.skipif(not HEAVY, reason="heavy file: set ABDSIM_HEAVY_TESTS=1")]
-        if p.name in HEAVY_FILES
-        else []
-    )
+    def marks(p: Path) -> list:
+        heavy = p.name in HEAVY_XMLS if p.suffix == ".xml" else p.name not in LIGHT_URDFS
+        out = [pytest.mark.skipif(not HEAVY, reason="heavy file: set ABDSIM_HEAVY_TESTS=1")]
+        out = out if heavy else []
+        if p.name in SOLVER_FAILURES:
+            from abdsim import SolverError
+
+            out.append(pytest.mark.xfail(raises=SolverError, strict=True, reason="solver"))
+        return out
+
     return [pytest.param(p, id=_id(p), marks=marks(p)) for p in paths]
 
 
 def _simulate(result) -> float:
     """STEPS steps; the smallest gap abdsim saw (inf: no contact pair came near)."""
-    world = result.make_world()
+    d_hat = SMALL_PARTS.get(result.source.name)
+    if d_hat is not None:
+        with pytest.raises(ValueError, match="is not small against body .* use a d_hat"):
+            result.make_world()
+    world = result.make_world(**({"d_hat": d_hat} if d_hat else {}))
     gap = np.inf
     for _ in range(STEPS):
         world.step(1)
@@ -157,6 +178,12 @@ def test_every_example_robot_urdf_loads_and_steps(path):
                 load_urdf(path)
             assert path.name in str(err.value)
             return
+        if path.name in NOT_ARTICULATED:
+            with pytest.raises(LoaderError, match=f"{path.name}: {NOT_ARTICULATED[path.name]}"):
+                load_urdf(path)
+            result = load_urdf(path, kinematic=True)
+            assert _simulate(result) > 0
+            return
         result = load_urdf(path)
     assert len(result.bodies) >= 1
     assert all(b.kind != "kinematic" for b in result.bodies)
@@ -174,6 +201,10 @@ def test_every_example_robot_urdf_loads_floating_and_steps(path):
             with pytest.raises(LoaderError, match=path.name.replace(".", r"\.")):
                 load_urdf(path, floating_base=True)
             return
+        if path.name in NOT_ARTICULATED:
+            with pytest.raises(LoaderError, match=NOT_ARTICULATED[path.name]):
+                load_urdf(path, floating_base=True)
+            return
         result = load_urdf(path, floating_base=True)
     assert _simulate(result) > 0
 
@@ -189,7 +220,8 @@ def test_every_dm_control_suite_xml_loads_and_steps(path):
             result = load_mjcf(path, kinematic=True)
         else:
             result = load_mjcf(path)
-            assert result.articulated and result.joint_names
+            assert result.articulated and all(b.kind != "kinematic" for b in result.bodies)
+            assert len(result.scene.joints) == len(result.joint_names)  # lqr.xml has none
     assert _simulate(result) > 0
 
 
