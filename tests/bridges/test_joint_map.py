@@ -20,7 +20,8 @@ _MJCF = """<mujoco><option timestep="0.001"/><worldbody>
         <geom type="sphere" size="0.05"/></body></body></body>
   <body name="puck" pos="1 0 1"><freejoint name="free"/><geom type="box" size="0.1 0.08 0.06"/>
   </body></worldbody>
-  <keyframe><key qpos="0.4  0.9 0.1 0.3 0.2  0.05  1 0.2 1.1 0.8 0.1 -0.5 0.3"/></keyframe>
+  <keyframe><key qpos="0.4  0.9 0.1 0.3 0.2  0.05  1 0.2 1.1 0.8 0.1 -0.5 0.3"
+                 qvel="0.5  0.1 -0.2 0.3  0.4  0.1 0.2 -0.3 0.6 -0.4 0.2"/></keyframe>
 </mujoco>"""
 
 
@@ -46,6 +47,8 @@ def test_mjcf_qpos_qvel_round_trip_through_mujoco_kinematics(tmp_path):
     qpos_load = result.qpos_from_world(world)
     assert np.abs(qpos_load[:5] - load[:5]).max() < 1e-12
     assert _quat_close(qpos_load[1:5], load[1:5] / np.linalg.norm(load[1:5])) < 1e-12
+    # The keyframe's qvel is the bodies' initial velocity, read back through the mapping.
+    np.testing.assert_allclose(result.qvel_from_world(world), result.model.key_qvel[0], atol=1e-9)
     rng = np.random.default_rng(3)
     qpos = load + rng.normal(scale=0.3, size=load.size)
     for adr in (1, 9):  # ball and free quaternions
