@@ -39,6 +39,8 @@ class StepDiagnostics:
         converged: always True for a returned step (a failed step raises SolverError).
         integrator_order: 1 for a BDF1 step (BDF2 takes one at its start, after
             ``set_state`` and where contact begins or ends), 2 for a BDF2 step.
+        restitution_impulses: impulses the restitution law applied after the step
+            (``SceneSettings.restitution``).
         step_translation: last Newton step, max |Δp| / dt (m/s).
         step_affine: last Newton step, max |ΔA| / dt (1/s).
         residual: max |∇Π| at the start of the last Newton iteration.
@@ -106,6 +108,7 @@ class StepDiagnostics:
     kinematic_lag: float = 0.0
     kinematic_lag_body: int = -1
     integrator_order: int = 1
+    restitution_impulses: int = 0
     substeps: int = 1
     joint_violation: float = 0.0
     joint_violation_angle: float = 0.0
@@ -147,6 +150,7 @@ class StepDiagnostics:
             kinematic_lag=d.kinematic_lag,
             kinematic_lag_body=d.kinematic_lag_body,
             integrator_order=d.integrator_order,
+            restitution_impulses=d.restitution_impulses,
             substeps=d.substeps,
             joint_violation=d.joint_violation,
             joint_violation_angle=d.joint_violation_angle,
@@ -347,6 +351,8 @@ class World:
         cs.mu = float(st.friction)
         cs.eps_v = float(st.eps_v)
         cs.damping = float(st.contact_damping)
+        cs.restitution = -1.0 if st.restitution is None else float(st.restitution)
+        cs.restitution_threshold = float(st.restitution_threshold)
         ground = scene.ground
         cs.ground = ground is not None
         cs.ground_height = float(ground.height) if ground is not None else 0.0
@@ -364,6 +370,7 @@ class World:
             enabled = np.ones((n, n), dtype=np.int32)
             mu = np.full((n, n), float(st.friction))
             zeta = np.full((n, n), float(st.contact_damping))
+            e = np.full((n, n), cs.restitution)
             if ground_mu is not None:
                 mu[ground_id, :] = mu[:, ground_id] = ground_mu
             if ground_zeta is not None:
@@ -377,7 +384,10 @@ class World:
                 damping = scene.contact_table.damping(a, b)
                 if damping is not None:
                     zeta[i, j] = zeta[j, i] = damping
-            cs.set_contact_table_matrices(enabled, mu, zeta)
+                restitution = scene.contact_table.restitution(a, b)
+                if restitution is not None:
+                    e[i, j] = e[j, i] = restitution
+            cs.set_contact_table_matrices(enabled, mu, zeta, e)
         return cs
 
     @staticmethod
