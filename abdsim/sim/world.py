@@ -16,9 +16,10 @@ from abdsim.geometry import validation as check
 from abdsim.geometry.containment import nested_pairs
 from abdsim.sim import pose as pose_math
 from abdsim.sim.contact_forces import ContactForces, rest_centers_of_mass, world_centers
+from abdsim.sim.joint_sensor_readings import joint_sensor_values
 from abdsim.sim.scene import GROUND, BodyHandle, Scene
 from abdsim.sim.sensor_readings import BodyState, sensor_values
-from abdsim.sim.sensors import SensorSet, VelocityHistory
+from abdsim.sim.sensors import JOINT_TYPES, SensorSet, VelocityHistory
 
 SolverError = _core.SolverError
 
@@ -862,6 +863,19 @@ class World:
             raise
         return i
 
+    def add_joint_sensor(self, type: str, target: str | int, **kwargs: Any) -> int:
+        """Add a ``jointpos``/``jointvel`` sensor on the joint named ``target`` or an
+        ``actuatorfrc`` sensor on actuator ``target`` (``SensorSet.add_joint_sensor``'s
+        arguments); ValueError if this World has no such joint or actuator."""
+        i = self._sensors.add_joint_sensor(type, target, **kwargs)
+        try:  # the new one only: the scene's may wait for joints it was not built with
+            new = SensorSet(self._sensors.specs[i:])
+            new.check_joints([j.name for j in self.joints], len(self._scene.actuators))
+        except ValueError:
+            self._sensors = SensorSet(self._sensors.specs[:-1])
+            raise
+        return i
+
     @property
     def sensor_adr(self) -> np.ndarray:
         """Index of each sensor's first value in ``sensordata`` (MuJoCo's ``sensor_adr``)."""
@@ -895,7 +909,20 @@ class World:
             state.rest_centers = self._rest_centers
             bodies = {s.body for s in specs if s.type in ("force", "torque")}
             state.mass_matrices = {b: np.asarray(self._core.mass_matrix(b)) for b in bodies}
-        return sensor_values(specs, state)
+        values = sensor_values(specs, state)
+        if types & JOINT_TYPES:
+            adr = self._sensors.sensor_adr
+            joint_values = joint_sensor_values(
+                specs,
+                self.joints,
+                self.joint_positions(),
+                self.joint_velocities(),
+                self._scene.actuators,
+                self.ctrl,
+            )
+            for i, v in joint_values.items():
+                values[adr[i]] = v
+        return values
 
     def add_term(self, term: _core.EnergyTerm) -> None:
         """Add a potential (contact, joints, a ``_core.PythonEnergyTerm`` subclass...) to Π.
