@@ -45,8 +45,8 @@ def test_joint_sensors_match_mujoco_on_a_driven_pendulum(pendulum):
     (1.5e-3), actuatorfrc = kp (u − θ) within kp × 1e-3 N·m (7e-4); MuJoCo's layout."""
     path, result = pendulum
     scene = build_articulated_scene(result, integrator="bdf2", contact=False)
-    servo = scene.add_actuator("swing", "position", kp=KP)
-    assert servo.index == 0
+    (servo,) = scene.actuators  # the MJCF's own position actuator (bridges/_mjcf_actuators.py)
+    assert (servo.index, servo.kind, servo.kp, servo.kv, servo.gear) == (0, "position", KP, 0, 1)
     world = abdsim.World(scene)
     model = mujoco.MjModel.from_xml_path(str(path))
     data = mujoco.MjData(model)
@@ -67,17 +67,20 @@ def test_joint_sensors_match_mujoco_on_a_driven_pendulum(pendulum):
 
 
 def test_joint_sensors_read_nan_without_joints_and_are_checked(pendulum):
-    """A scene without the joint (build_scene: the arm is kinematic) keeps the slots as NaN;
+    """A scene without the joint (kinematic=True: the arm is scripted) keeps the slots as NaN;
     World.add_joint_sensor refuses a joint or actuator the World does not have."""
-    _, result = pendulum
-    world = abdsim.World(result.build_scene(contact=False))
+    path, result = pendulum
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        scripted = load_mjcf(path, kappa=1e10, kinematic=True)
+    world = abdsim.World(scripted.build_scene(contact=False))
     assert np.isnan(world.sensordata).all()
     world = abdsim.World(build_articulated_scene(result, contact=False))
     i = world.add_joint_sensor("jointvel", "swing", name="again")
     assert world.sensordata[world.sensor_adr[i]] == 0.0
     with pytest.raises(ValueError, match="no joint named 'elbow'"):
         world.add_joint_sensor("jointpos", "elbow")
-    with pytest.raises(ValueError, match="actuator 0 out of range"):
-        world.add_joint_sensor("actuatorfrc", 0)
+    with pytest.raises(ValueError, match="actuator 1 out of range"):
+        world.add_joint_sensor("actuatorfrc", 1)
     with pytest.raises(ValueError, match="add_joint_sensor"):
         world.add_sensor("jointpos", 0)
