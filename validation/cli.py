@@ -100,8 +100,6 @@ def _robot_options(args: argparse.Namespace) -> dict:
             if not args.floating:
                 raise ValueError(f"--{key} sets the dropped robot's gains: add --floating")
             options[key] = getattr(args, key)
-    if args.floating and ("perturb_anchor" in options or "perturb_axis" in options):
-        raise ValueError("--perturb-anchor/--perturb-axis apply to fixed-base robots")
     return options
 
 

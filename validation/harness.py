@@ -85,9 +85,8 @@ def validate(
             (``robot_drop``) instead of released from a fixed base (``robot_validation``).
         robot: options of a URDF robot's run: ``q`` (Pinocchio configuration), ``kappa``,
             wrong models ``perturb_mass`` {link: factor}, ``perturb_anchor`` {joint: m},
-            ``perturb_axis`` {joint: rad} (fixed base), ``settings`` (abdsim scene
-            settings); dropped: ``q``, ``kp``, ``kv``, ``drop_height``, ``kappa``,
-            ``perturb_mass`` and scene settings.
+            ``perturb_axis`` {joint: rad}, ``settings`` (abdsim scene settings); dropped
+            robots also ``kp``, ``kv`` and ``drop_height``.
 
     Raises:
         ValueError: unknown file type, a model MuJoCo or Pinocchio rejects, a scene with

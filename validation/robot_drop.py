@@ -98,9 +98,13 @@ def drop_setup(
     kappa: float = KAPPA,
     mujoco_integrator: str = "RK4",
     perturb_mass: dict[str, float] | None = None,
-    **settings,
+    perturb_anchor: dict[str, float] | None = None,
+    perturb_axis: dict[str, float] | None = None,
+    settings: dict | None = None,
 ) -> DropSetup:
-    """Both simulators' robot at rest, ``drop_height`` above the ground, actuated."""
+    """Both simulators' robot at rest, ``drop_height`` above the ground, actuated; the
+    ``perturb_*`` wrong models (abdsim only) are ``robot_setup.load_robot``'s; ``settings``
+    are abdsim scene settings (``contact=False``: a wrong model whose gap checks fail)."""
     import mujoco
     import pinocchio as pin
 
@@ -116,20 +120,22 @@ def drop_setup(
     q = np.array(q, dtype=float)
     probe, _, _ = load_robot(path, q, floating=True, kappa=kappa, contact=False)
     q[2] += drop_height - lowest_point(probe)
-    settings = {"friction": FRICTION, **settings}
+    settings = {"friction": FRICTION, **(settings or {})}
     result, scene, q = load_robot(
         path,
         q,
         floating=True,
         kappa=kappa,
         perturb_mass=perturb_mass,
+        perturb_anchor=perturb_anchor,
+        perturb_axis=perturb_axis,
         dt=dt,
         integrator=integrator,
         **settings,
     )
     scene.add_ground(0.0)
     if kp is None or kv is None:
-        kp0, kv0 = default_gains(result)
+        kp0, kv0 = default_gains(probe)  # the robot's own weight, not a perturbed one
         kp, kv = kp if kp is not None else kp0, kv if kv is not None else kv0
     joints = [j for j in scene.joints if j.kind in ("revolute", "prismatic")]
     for j in joints:
@@ -201,7 +207,8 @@ def validate_drop(
     **options,
 ):
     """Drop and compare (see the module); a ``ValidationResult``. ``options`` go to
-    ``drop_setup`` (q, drop_height, kp, kv, kappa, perturb_mass, scene settings)."""
+    ``drop_setup`` (q, drop_height, kp, kv, kappa, perturb_mass / _anchor / _axis,
+    settings)."""
     import mujoco
 
     from abdsim.validation import plots
@@ -294,7 +301,7 @@ def validate_drop(
             drop_height=float(options.get("drop_height", 0.05)),
             friction=FRICTION,
             stance=s.stance,
-            perturb_mass=options.get("perturb_mass") or {},
+            **{k: options.get(k) or {} for k in ("perturb_mass", "perturb_anchor", "perturb_axis")},
         ),
         "base_height": {
             "abdsim_end": float(r["z"][-1]),

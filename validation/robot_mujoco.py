@@ -71,7 +71,21 @@ def joint_map(scene, pin_model, mj_model=None) -> JointMap:
     return JointMap(names, *ints)
 
 
-def mujoco_robot(
+def mujoco_robot(urdf: Path, out_dir: Path, scene, q_load: dict[str, float], **options):
+    """(MjModel, path of the MuJoCo-ready URDF): ``mujoco_robot_spec`` compiled.
+
+    Raises:
+        ValueError: MuJoCo rejects or cannot compile the file (its message).
+    """
+
+    spec, path = mujoco_robot_spec(urdf, out_dir, scene, q_load, **options)
+    try:
+        return spec.compile(), path
+    except ValueError as err:
+        raise ValueError(f"MuJoCo could not compile {urdf}: {err}") from err
+
+
+def mujoco_robot_spec(
     urdf: Path,
     out_dir: Path,
     scene,
@@ -80,8 +94,9 @@ def mujoco_robot(
     floating: bool = False,
     friction: float = 1.0,
     actuators: list[tuple[str, float, float]] = (),
+    floor: bool = True,
 ):
-    """(MjModel, path of the MuJoCo-ready URDF) of ``urdf`` with ``scene``'s joint physics.
+    """(MjSpec, path of the MuJoCo-ready URDF) of ``urdf`` with ``scene``'s joint physics.
 
     Args:
         urdf: the robot file.
@@ -92,9 +107,11 @@ def mujoco_robot(
             contact only; otherwise contact is disabled (abdsim compares without contact).
         friction: sliding friction of every geom (MuJoCo takes the max of a pair).
         actuators: ``(joint name, kp, kv)`` position actuators, in ``world.ctrl`` order.
+        floor: with ``floating``, add the floor (False: robots attached to a spec that has
+            one).
 
     Raises:
-        ValueError: MuJoCo rejects the file (its message), or a joint it lacks.
+        ValueError: MuJoCo rejects the file (its message).
     """
     import mujoco
 
@@ -128,19 +145,23 @@ def mujoco_robot(
         for geom in spec.geoms:
             geom.contype, geom.conaffinity = 1, 0  # robot–robot pairs never collide
             geom.friction[0] = friction
-        floor = spec.worldbody.add_geom(
-            name="abdsim_floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.0, 0.0, 1.0]
-        )
-        floor.contype, floor.conaffinity = 0, 1
-        floor.friction[0] = friction
+        if floor:
+            add_floor(spec, friction)
     else:
         spec.option.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
     for name, kp, kv in actuators:
         act = spec.add_actuator(name=f"{name}_position", target=name)
         act.trntype = mujoco.mjtTrn.mjTRN_JOINT
         act.set_to_position(kp=kp, kv=kv)
-    try:
-        model = spec.compile()
-    except ValueError as err:
-        raise ValueError(f"MuJoCo could not compile {urdf}: {err}") from err
-    return model, path
+    return spec, path
+
+
+def add_floor(spec, friction: float) -> None:
+    """A z-up plane at z = 0 that touches every robot geom (contype 1) and nothing else."""
+    import mujoco
+
+    floor = spec.worldbody.add_geom(
+        name="abdsim_floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.0, 0.0, 1.0]
+    )
+    floor.contype, floor.conaffinity = 0, 1
+    floor.friction[0] = friction
