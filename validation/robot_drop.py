@@ -103,40 +103,37 @@ def drop_setup(
     settings: dict | None = None,
 ) -> DropSetup:
     """Both simulators' robot at rest, ``drop_height`` above the ground, actuated; the
-    ``perturb_*`` wrong models (abdsim only) are ``robot_setup.load_robot``'s; ``settings``
+    ``perturb_*`` wrong models (abdsim only) are ``robot_setup.articulate``'s; ``settings``
     are abdsim scene settings (``contact=False``: a wrong model whose gap checks fail)."""
     import mujoco
     import pinocchio as pin
 
     import abdsim
     from abdsim.validation.robot_mujoco import joint_map, mujoco_robot
-    from abdsim.validation.robot_setup import load_robot
+    from abdsim.validation.robot_setup import articulate, lift, load_result
 
     out_dir.mkdir(parents=True, exist_ok=True)
     stance = "given"
     if q is None:
         model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
         q, stance = standing_configuration(path, model)
-    q = np.array(q, dtype=float)
-    probe, _, _ = load_robot(path, q, floating=True, kappa=kappa, contact=False)
-    q[2] += drop_height - lowest_point(probe)
+    result, q = load_result(path, q, floating=True, kappa=kappa)
+    result = lift(result, drop_height - lowest_point(result))
+    q = result.q
+    if kp is None or kv is None:
+        kp0, kv0 = default_gains(result)  # the robot's own weight, before any perturbation
+        kp, kv = kp if kp is not None else kp0, kv if kv is not None else kv0
     settings = {"friction": FRICTION, **(settings or {})}
-    result, scene, q = load_robot(
-        path,
-        q,
-        floating=True,
-        kappa=kappa,
-        perturb_mass=perturb_mass,
-        perturb_anchor=perturb_anchor,
-        perturb_axis=perturb_axis,
+    scene = articulate(
+        result,
+        perturb_mass,
+        perturb_anchor,
+        perturb_axis,
         dt=dt,
         integrator=integrator,
         **settings,
     )
     scene.add_ground(0.0)
-    if kp is None or kv is None:
-        kp0, kv0 = default_gains(probe)  # the robot's own weight, not a perturbed one
-        kp, kv = kp if kp is not None else kp0, kv if kv is not None else kv0
     joints = [j for j in scene.joints if j.kind in ("revolute", "prismatic")]
     for j in joints:
         scene.add_actuator(j, "position", kp=kp, kv=kv)  # ctrl 0: hold the loaded stance
@@ -246,7 +243,10 @@ def validate_drop(
         t2 = time.perf_counter()
         wall["abdsim"] += t1 - t0
         wall["mujoco"] += t2 - t1
-        gap = min(gap, float(d.min_contact_distance))
+        # abdsim's own smallest contact distance (inf while nothing is near) and, so that a
+        # body sunk into the ground shows even without contact, its lowest vertex's height.
+        lowest = min(float(world.vertices(h)[..., 2].min()) for h in s.scene.handles)
+        gap = min(gap, float(d.min_contact_distance), lowest)
         penetration = max(penetration, mujoco_penetration(mj, data))
         violation = np.maximum(violation, frames.violation(world.transforms()))
         if k in coal_at:

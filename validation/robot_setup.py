@@ -75,6 +75,56 @@ def perturb_joints(result, anchors: dict[str, float], axes: dict[str, float]):
     return replace(result, joints=joints, _scene=None)
 
 
+def load_result(path: Path, q: np.ndarray | None, *, floating: bool, kappa: float):
+    """(LoadResult, configuration) of the URDF robot at ``q`` (default:
+    ``default_configuration``); the loader's notes are in ``result.notes``."""
+    import pinocchio as pin
+
+    from abdsim.bridges import load_urdf
+
+    if q is None:
+        root = pin.JointModelFreeFlyer() if floating else None
+        model = (
+            pin.buildModelFromUrdf(str(path), root) if root else pin.buildModelFromUrdf(str(path))
+        )
+        q = default_configuration(model)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = load_urdf(path, q=q, floating_base=floating, kappa=kappa)
+    return result, np.asarray(q, dtype=float)
+
+
+def lift(result, dz: float):
+    """``result`` moved up by ``dz`` (bodies, joint anchors and ``q``, a floating robot's
+    base height): the same robot as loaded ``dz`` higher, without loading it again."""
+    for body in result.bodies:
+        T = body.transform
+        T[2, 3] += dz
+        body.geometry.transforms = T[None]
+    q = result.q.copy()
+    q[2] += dz
+    joints = [replace(j, anchor=j.anchor + np.array([0.0, 0.0, dz])) for j in result.joints]
+    return replace(result, joints=joints, q=q, _scene=None)
+
+
+def articulate(
+    result,
+    perturb_mass: dict[str, float] | None = None,
+    perturb_anchor: dict[str, float] | None = None,
+    perturb_axis: dict[str, float] | None = None,
+    **settings,
+):
+    """``build_articulated_scene(result, **settings)`` of the robot, with the wrong models
+    asked for (abdsim only; ``perturb_mass`` edits ``result``'s bodies in place)."""
+    from abdsim.bridges import build_articulated_scene
+
+    if perturb_mass:
+        perturb_masses(result, perturb_mass)
+    if perturb_anchor or perturb_axis:
+        result = perturb_joints(result, perturb_anchor or {}, perturb_axis or {})
+    return build_articulated_scene(result, **settings)
+
+
 def load_robot(
     path: Path,
     q: np.ndarray | None,
@@ -86,27 +136,11 @@ def load_robot(
     perturb_axis: dict[str, float] | None = None,
     **settings,
 ):
-    """(LoadResult, Scene, configuration) of the robot at ``q`` (default:
-    ``default_configuration``), its moving bodies dynamic and joined."""
-    import pinocchio as pin
-
-    from abdsim.bridges import build_articulated_scene, load_urdf
-
-    if q is None:
-        root = pin.JointModelFreeFlyer() if floating else None
-        model = (
-            pin.buildModelFromUrdf(str(path), root) if root else pin.buildModelFromUrdf(str(path))
-        )
-        q = default_configuration(model)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the loader's notes are in result.notes
-        result = load_urdf(path, q=q, floating_base=floating, kappa=kappa)
-    if perturb_mass:
-        perturb_masses(result, perturb_mass)
-    if perturb_anchor or perturb_axis:
-        built = perturb_joints(result, perturb_anchor or {}, perturb_axis or {})
-        return result, build_articulated_scene(built, **settings), np.asarray(q, dtype=float)
-    return result, build_articulated_scene(result, **settings), np.asarray(q, dtype=float)
+    """(LoadResult, Scene, configuration): ``load_result`` then ``articulate``; the result is
+    the source's (the joint perturbations are in the scene only)."""
+    result, q = load_result(path, q, floating=floating, kappa=kappa)
+    scene = articulate(result, perturb_mass, perturb_anchor, perturb_axis, **settings)
+    return result, scene, q
 
 
 class JointFrames:

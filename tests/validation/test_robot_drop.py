@@ -6,11 +6,13 @@ by default its first 0.2 s (the fall and the landing) run."""
 
 from __future__ import annotations
 
+import json
 import os
 
 import numpy as np
 import pytest
 
+from abdsim.cli import main
 from abdsim.validation import validate
 from tests.validation.test_robot_validation import robot_file
 
@@ -70,6 +72,18 @@ def test_every_drop_check_fails_on_a_wrong_model(solo12, tmp_path):
     failed = {c.name for c in through.failed + wrong_joints.failed}
     assert kinds == failed, sorted(kinds - failed)
     assert "**no**" in through.report.read_text()
+
+
+def test_command_line_drop_with_given_gains(solo12, tmp_path, capsys):
+    """20 ms of free fall from the command line: both fall alike, every check passes."""
+    out = tmp_path / "out"
+    argv = ["validate", str(solo12), "--floating", "--dt", "2e-3", "--duration", "0.02"]
+    assert main(argv + ["--kp", "6", "--kv", "0.2", "--out", str(out), "--quiet"]) == 0
+    assert "PASSED" in capsys.readouterr().out
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert (metrics["settings"]["kp"], metrics["settings"]["kv"]) == (6.0, 0.2)
+    gaps = metrics["gaps"]
+    assert gaps["abdsim_min_gap"] == pytest.approx(0.05 - 0.5 * 9.81 * 0.02**2, abs=2e-3)
 
 
 @pytest.mark.skipif(not HEAVY, reason="heavy (1 s drop): set ABDSIM_HEAVY_TESTS=1")
