@@ -8,13 +8,16 @@
 3. 8 of the quadrupeds on a 4 × 2 grid, dropped together 5 cm onto the ground.
 
 dt = 2e-3, 1 s. Both engines step one step at a time from Python; only the step calls are
-timed. MuJoCo: the MuJoCo-ready URDF (``abdsim.validation.robot_mujoco``: free joint, floor,
-robot–floor contacts, the same gains), integrator implicitfast (its recommended one for
-robots: RK4 and Euler are unstable on the Panda's 15 g fingers with kv = 20). Reported:
+timed. Both simulate the same contacts, robot–ground only (``--self-contact``: abdsim's
+links also collide with each other, those the loader does not exclude). MuJoCo: the
+MuJoCo-ready URDF (``abdsim.validation.robot_mujoco``: free joint, floor, the same gains),
+integrator implicitfast (its recommended one for robots: RK4 and Euler are unstable on the
+Panda's 15 g fingers with kv = 20). Reported:
 steps/s of each, abdsim's speed as "N× MuJoCo's speed (> 1 is faster)", abdsim's smallest
 gap (contact distance over every step) and MuJoCo's largest penetration.
 
 Usage: python benchmarks/robots.py [--robot solo12|go2] [--duration 1.0] [--robots 8]
+                                  [--self-contact]
 """
 
 from __future__ import annotations
@@ -75,8 +78,8 @@ def run(world, mj, data, steps: int) -> dict:
     }
 
 
-def standing(path: Path, out: Path, steps: int) -> dict:
-    s = drop_setup(path, out, DT, drop_height=2e-3)
+def standing(path: Path, out: Path, steps: int, self_contact: bool) -> dict:
+    s = drop_setup(path, out, DT, drop_height=2e-3, self_contact=self_contact)
     s.mj_model.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     return run(s.world, s.mj_model, s.mj_data, steps)
 
@@ -104,9 +107,10 @@ def panda(out: Path, steps: int) -> dict:
     return row
 
 
-def combine(results: list) -> object:
+def combine(results: list, self_contact: bool) -> object:
     """One LoadResult holding several robots (bodies, joints and contact rules renumbered;
-    joint names prefixed ``r<k>_``) for ``build_articulated_scene``."""
+    joint names prefixed ``r<k>_``) for ``build_articulated_scene``; without
+    ``self_contact`` no two robot bodies collide (robot–ground contacts only)."""
     from abdsim.bridges._contact_rules import ContactRules
 
     bodies, joints, rules = [], [], ContactRules()
@@ -120,10 +124,13 @@ def combine(results: list) -> object:
         ]
         rules.excluded |= {(i + n, j + n) for i, j in r.contact_rules.excluded}
         rules.ground_excluded |= {i + n for i in r.contact_rules.ground_excluded}
+    if not self_contact:
+        n = len(bodies)
+        rules.excluded |= {(i, j) for i in range(n) for j in range(i + 1, n)}
     return replace(results[0], bodies=bodies, joints=joints, contact_rules=rules, _scene=None)
 
 
-def dropped_together(path: Path, out: Path, steps: int, count: int) -> dict:
+def dropped_together(path: Path, out: Path, steps: int, count: int, self_contact: bool) -> dict:
     """``count`` robots on a grid, each as ``drop_setup`` places it, dropped together."""
     one = drop_setup(path, out, DT)
     kp, kv = default_gains(one.result)
@@ -137,7 +144,10 @@ def dropped_together(path: Path, out: Path, steps: int, count: int) -> dict:
         results.append(result)
         offsets.append(offset)
     scene = build_articulated_scene(
-        combine(results), dt=DT, integrator="bdf2", friction=one.scene.settings.friction
+        combine(results, self_contact),
+        dt=DT,
+        integrator="bdf2",
+        friction=one.scene.settings.friction,
     )
     scene.add_ground(0.0)
     for j in scene.joints:
@@ -184,17 +194,21 @@ def main() -> None:
     parser.add_argument("--robot", choices=sorted(QUADRUPEDS), default="solo12")
     parser.add_argument("--duration", type=float, default=1.0)
     parser.add_argument("--robots", type=int, default=8, help="robots dropped together")
+    parser.add_argument(
+        "--self-contact", action="store_true", help="abdsim's links collide with each other"
+    )
     args = parser.parse_args()
     steps = int(round(args.duration / DT))
     path = robot_file(QUADRUPEDS[args.robot])
     out = Path(tempfile.mkdtemp(prefix="abdsim_robots_"))
-    n = args.robots
+    n, own = args.robots, args.self_contact
     cases = [
-        (f"{args.robot} standing, position control", lambda: standing(path, out, steps)),
+        (f"{args.robot} standing, position control", lambda: standing(path, out, steps, own)),
         ("Panda holding a pose", lambda: panda(out, steps)),
-        (f"{n} × {args.robot} dropped", lambda: dropped_together(path, out, steps, n)),
+        (f"{n} × {args.robot} dropped", lambda: dropped_together(path, out, steps, n, own)),
     ]
-    print(f"dt = {DT:g} s, {args.duration:g} s; speed: {CONVENTION}")
+    contacts = "robot–ground and robot–robot (abdsim)" if own else "robot–ground only"
+    print(f"dt = {DT:g} s, {args.duration:g} s, contacts: {contacts}; speed: {CONVENTION}")
     print(
         f"{'case':34s} {'abdsim steps/s':>15s} {'MuJoCo steps/s':>15s} {'speed':>7s} "
         f"{'abdsim min gap (m)':>19s} {'MuJoCo max pen. (m)':>20s}"

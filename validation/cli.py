@@ -55,6 +55,11 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         help="floating base: drop the robot 5 cm onto the ground under position actuators "
         "holding its stance, against MuJoCo (use --dt 2e-3 --duration 1)",
     )
+    robot.add_argument(
+        "--self-contact",
+        action="store_true",
+        help="the dropped robot's links collide with each other in abdsim (MuJoCo's do not)",
+    )
     robot.add_argument("--kp", type=float, help="position gain of the dropped robot's joints")
     robot.add_argument("--kv", type=float, help="velocity gain of the dropped robot's joints")
     for flag, meta, what in (
@@ -95,10 +100,11 @@ def _robot_options(args: argparse.Namespace) -> dict:
     for key in ("perturb_mass", "perturb_anchor", "perturb_axis"):
         if getattr(args, key):
             options[key] = dict(getattr(args, key))
-    for key in ("kp", "kv"):
-        if getattr(args, key) is not None:
+    for key in ("kp", "kv", "self_contact"):
+        if getattr(args, key) not in (None, False):
             if not args.floating:
-                raise ValueError(f"--{key} sets the dropped robot's gains: add --floating")
+                flag = "--" + key.replace("_", "-")
+                raise ValueError(f"{flag} applies to the dropped robot: add --floating")
             options[key] = getattr(args, key)
     return options
 

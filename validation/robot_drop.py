@@ -4,9 +4,11 @@ the same URDF (free joint, floor, the same actuators and gains, ``robot_mujoco``
 
 The robot starts at rest in its stance (the SRDF's ``standing`` state when the robot's
 ``srdf/`` folder has one, else Pinocchio's neutral inside the limits), lifted so that its
-lowest point is ``drop_height`` above the ground. Compared: the base height over time and
-after ``duration``, the final stance joint by joint; checked: abdsim's gap at every step,
-and independently (coal, ``robot_gap``) at a few instants, and the joints' violation.
+lowest point is ``drop_height`` above the ground. Both simulate robot–ground contacts only
+(abdsim's links may collide with each other too: ``self_contact``). Compared: the base
+height over time and after ``duration``, the final stance joint by joint; checked: abdsim's
+gap at every step (its contact distance, and its lowest vertex above the ground), and
+independently (coal, ``robot_gap``) at a few instants, and the joints' violation.
 """
 
 from __future__ import annotations
@@ -101,10 +103,16 @@ def drop_setup(
     perturb_anchor: dict[str, float] | None = None,
     perturb_axis: dict[str, float] | None = None,
     settings: dict | None = None,
+    self_contact: bool = False,
 ) -> DropSetup:
     """Both simulators' robot at rest, ``drop_height`` above the ground, actuated; the
     ``perturb_*`` wrong models (abdsim only) are ``robot_setup.articulate``'s; ``settings``
-    are abdsim scene settings (``contact=False``: a wrong model whose gap checks fail)."""
+    are abdsim scene settings (``contact=False``: a wrong model whose gap checks fail).
+
+    Both simulate the same contacts, robot–ground only; ``self_contact`` lets abdsim's links
+    collide too (those the loader does not exclude: not adjacent, not touching at load),
+    which a stance never needs and which costs most of a step (the broad phase between a
+    trunk's and its legs' dense meshes)."""
     import mujoco
     import pinocchio as pin
 
@@ -120,6 +128,9 @@ def drop_setup(
     result, q = load_result(path, q, floating=True, kappa=kappa)
     result = lift(result, drop_height - lowest_point(result))
     q = result.q
+    if not self_contact:
+        n = len(result.bodies)
+        result.contact_rules.excluded |= {(i, j) for i in range(n) for j in range(i + 1, n)}
     if kp is None or kv is None:
         kp0, kv0 = default_gains(result)  # the robot's own weight, before any perturbation
         kp, kv = kp if kp is not None else kp0, kv if kv is not None else kv0
@@ -301,6 +312,7 @@ def validate_drop(
             drop_height=float(options.get("drop_height", 0.05)),
             friction=FRICTION,
             stance=s.stance,
+            self_contact=bool(options.get("self_contact", False)),
             **{k: options.get(k) or {} for k in ("perturb_mass", "perturb_anchor", "perturb_axis")},
         ),
         "base_height": {
@@ -323,7 +335,7 @@ def validate_drop(
         "notes": [
             f"{s.mj_path.name} (beside this report) is the URDF as MuJoCo compiled it, with a "
             "free joint on its root, a floor and position actuators; only robot–floor "
-            "contacts in MuJoCo",
+            "contacts in MuJoCo (and in abdsim unless self_contact)",
             f"stance: {s.stance}; MuJoCo's largest penetration {penetration:.3g} m",
         ]
         + list(s.result.notes),

@@ -96,7 +96,7 @@ def test_command_line_reports_a_wrong_model(ur5, tmp_path, capsys):
     text = capsys.readouterr()
     assert "FAILED" in text.out and "forearm_link" in text.err
     assert main(argv + ["--kp", "10"]) == 1
-    assert "add --floating" in capsys.readouterr().err
+    assert "--kp applies to the dropped robot: add --floating" in capsys.readouterr().err
     with pytest.raises(ValueError, match="no joint"):
         validate(
             ur5, duration=0.05, out=tmp_path, progress=False, robot={"perturb_anchor": {"x": 1}}
