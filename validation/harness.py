@@ -117,11 +117,22 @@ def validate(
         )
     if floating:
         raise ValueError(f"{path}: --floating applies to URDF robots (an MJCF file has its own)")
-    from abdsim.validation.joint_validation import has_joints_only, validate_joints
+    from abdsim.validation.joint_validation import (
+        floating_articulation,
+        has_joints_only,
+        validate_joints,
+    )
     from abdsim.validation.mujoco_reference import load_model
 
-    if has_joints_only(load_model(path)):  # an articulation: joint trajectories
+    model = load_model(path)
+    if has_joints_only(model):  # an articulation: joint trajectories
         return validate_joints(path, duration, dt, out_dir, tol, integrator, sample_dt)
+    limb = floating_articulation(model)
+    if limb is not None:  # its free-body comparison would hold the limbs as puppets
+        raise ValueError(
+            f"{path}: a floating robot (joint {limb!r} hangs below a free body) is not "
+            "compared from MJCF yet; validate its URDF with --floating"
+        )
 
     t_start = time.perf_counter()
     setup = build_abdsim(

@@ -32,6 +32,21 @@ def has_joints_only(model) -> bool:
     return bool(types) and int(mujoco.mjtJoint.mjJNT_FREE) not in types
 
 
+def floating_articulation(model) -> str | None:
+    """The first joint that hangs below a free body (a floating robot's limb), or None."""
+    import mujoco
+
+    free = int(mujoco.mjtJoint.mjJNT_FREE)
+    for j in range(model.njnt):
+        if int(model.jnt_type[j]) == free:
+            continue
+        root = int(model.body_rootid[model.jnt_bodyid[j]])
+        k = int(model.body_jntadr[root])
+        if k >= 0 and int(model.jnt_type[k]) == free:
+            return mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j) or f"joint {j}"
+    return None
+
+
 def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     w1, x1, y1, z1 = a
     w2, x2, y2, z2 = b
