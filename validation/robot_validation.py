@@ -159,6 +159,10 @@ def validate_robot(
         if k % every == 0:
             sample(k * dt)
     r = {k: np.array(v) for k, v in rows.items()}
+    # A continuous joint is (cos, sin) in Pinocchio: its angle, read in (-π, π], is unwrapped
+    # over time like abdsim's and MuJoCo's.
+    continuous = jm.pin_nq == 2
+    r["q_pin"][:, continuous] = np.unwrap(r["q_pin"][:, continuous], axis=0)
     # Pinocchio has no joint limits: it is compared until its trajectory leaves them.
     lo, hi = _absolute_limits(scene, q_load)
     outside = np.flatnonzero(((r["q_pin"] < lo) | (r["q_pin"] > hi)).any(axis=1))
