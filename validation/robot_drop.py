@@ -245,6 +245,8 @@ def validate_drop(
         rows["q"].append(s.q_load + world.joint_positions()[: len(s.names)])
         rows["q_mj"].append(data.qpos[s.mj_q].copy())
 
+    table = s.scene.contact_table
+    grounded = [h for h in s.scene.handles if table.get(h.contact_elements[0], "ground")[0]]
     sample(0.0)
     for k in range(1, n_steps + 1):
         t0 = time.perf_counter()
@@ -256,7 +258,7 @@ def validate_drop(
         wall["mujoco"] += t2 - t1
         # abdsim's own smallest contact distance (inf while nothing is near) and, so that a
         # body sunk into the ground shows even without contact, its lowest vertex's height.
-        lowest = min(float(world.vertices(h)[..., 2].min()) for h in s.scene.handles)
+        lowest = min(float(world.vertices(h)[..., 2].min()) for h in grounded)
         gap = min(gap, float(d.min_contact_distance), lowest)
         penetration = max(penetration, mujoco_penetration(mj, data))
         violation = np.maximum(violation, frames.violation(world.transforms()))

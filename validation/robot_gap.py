@@ -22,7 +22,7 @@ def coal_gaps(world) -> tuple[float, float, int]:
     """(smallest body–ground distance, smallest distance between colliding body pairs,
     number of intersecting pairs, the ground included) of ``world`` now, by coal.
 
-    Pairs the contact table excludes (joined links) and pairs of fixed bodies are skipped;
+    Pairs the contact table excludes (joined links, bodies kept off the ground) are skipped;
     coal reports 0 or less for a pair that intersects. A scene without ground gives inf.
     """
     import coal
@@ -40,7 +40,9 @@ def coal_gaps(world) -> tuple[float, float, int]:
             coal.Halfspace(np.array([0.0, 0.0, 1.0]), float(scene.ground.height)),
             coal.Transform3s(),
         )
-        for _, obj in objects:
+        for i, obj in objects:
+            if not scene.contact_table.get(int(elements[i]), "ground")[0]:
+                continue  # a body the source keeps off the ground (a link without geometry)
             res = coal.DistanceResult()
             ground_gap = min(ground_gap, coal.distance(obj, plane, coal.DistanceRequest(), res))
             hits += bool(coal.collide(obj, plane, coal.CollisionRequest(), coal.CollisionResult()))
