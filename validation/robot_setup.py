@@ -122,7 +122,9 @@ def articulate(
         perturb_masses(result, perturb_mass)
     if perturb_anchor or perturb_axis:
         result = perturb_joints(result, perturb_anchor or {}, perturb_axis or {})
-    return build_articulated_scene(result, **settings)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # notes found while building are in result.notes
+        return build_articulated_scene(result, **settings)
 
 
 def load_robot(
