@@ -12,12 +12,13 @@ timed. Both simulate the same contacts, robot–ground only (``--self-contact``:
 links also collide with each other, those the loader does not exclude). MuJoCo: the
 MuJoCo-ready URDF (``abdsim.validation.robot_mujoco``: free joint, floor, the same gains),
 integrator implicitfast (its recommended one for robots: RK4 and Euler are unstable on the
-Panda's 15 g fingers with kv = 20). Reported:
+Panda's 15 g fingers with kv = 20; ``--mujoco-integrator RK4`` for the one ``abdsim
+validate`` compares with, 4 evaluations a step). Reported:
 steps/s of each, abdsim's speed as "N× MuJoCo's speed (> 1 is faster)", abdsim's smallest
 gap (contact distance over every step) and MuJoCo's largest penetration.
 
 Usage: python benchmarks/robots.py [--robot solo12|go2] [--duration 1.0] [--robots 8]
-                                  [--self-contact]
+                                  [--self-contact] [--mujoco-integrator RK4]
 """
 
 from __future__ import annotations
@@ -57,8 +58,10 @@ def robot_file(relative: str) -> Path:
     raise SystemExit(f"example-robot-data's {relative} is not installed")
 
 
-def run(world, mj, data, steps: int) -> dict:
-    """Step both; steps/s of each, abdsim's smallest gap, MuJoCo's largest penetration."""
+def run(world, mj, data, steps: int, integrator: str) -> dict:
+    """Step both (MuJoCo with ``integrator``); steps/s of each, abdsim's smallest gap,
+    MuJoCo's largest penetration."""
+    mj.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{integrator}")
     wall = {"abdsim": 0.0, "mujoco": 0.0}
     gap, depth = np.inf, 0.0
     for _ in range(steps):
@@ -78,13 +81,12 @@ def run(world, mj, data, steps: int) -> dict:
     }
 
 
-def standing(path: Path, out: Path, steps: int, self_contact: bool) -> dict:
+def standing(path: Path, out: Path, steps: int, integrator: str, self_contact: bool) -> dict:
     s = drop_setup(path, out, DT, drop_height=2e-3, self_contact=self_contact)
-    s.mj_model.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    return run(s.world, s.mj_model, s.mj_data, steps)
+    return run(s.world, s.mj_model, s.mj_data, steps, integrator)
 
 
-def panda(out: Path, steps: int) -> dict:
+def panda(out: Path, steps: int, integrator: str) -> dict:
     path = robot_file(PANDA)
     result, scene, q = load_robot(
         path, None, floating=False, kappa=1e10, dt=DT, integrator="bdf2", contact=False
@@ -98,11 +100,10 @@ def panda(out: Path, steps: int) -> dict:
     mj, _ = mujoco_robot(path, out, scene, loads, actuators=act)
     jm = joint_map(scene, result.model, mj)
     mj.opt.timestep = DT
-    mj.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     data = mujoco.MjData(mj)
     data.qpos[jm.mj_q] = q_load
     data.ctrl[:] = q_load
-    row = run(abdsim.World(scene), mj, data, steps)
+    row = run(abdsim.World(scene), mj, data, steps, integrator)
     row["gap"] = row["penetration"] = float("nan")  # no contact in this case
     return row
 
@@ -130,7 +131,9 @@ def combine(results: list, self_contact: bool) -> object:
     return replace(results[0], bodies=bodies, joints=joints, contact_rules=rules, _scene=None)
 
 
-def dropped_together(path: Path, out: Path, steps: int, count: int, self_contact: bool) -> dict:
+def dropped_together(
+    path: Path, out: Path, steps: int, integrator: str, count: int, self_contact: bool
+) -> dict:
     """``count`` robots on a grid, each as ``drop_setup`` places it, dropped together."""
     one = drop_setup(path, out, DT)
     kp, kv = default_gains(one.result)
@@ -156,7 +159,6 @@ def dropped_together(path: Path, out: Path, steps: int, count: int, self_contact
 
     spec = mujoco.MjSpec()
     spec.option.timestep = DT
-    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     add_floor(spec, one.scene.settings.friction)
     loads = dict(zip(one.names, one.q_load, strict=True))
     act = [(n, kp, kv) for n in one.names]
@@ -179,7 +181,7 @@ def dropped_together(path: Path, out: Path, steps: int, count: int, self_contact
     for a in range(mj.nu):
         data.ctrl[a] = data.qpos[mj.jnt_qposadr[mj.actuator_trnid[a, 0]]]
     mujoco.mj_forward(mj, data)
-    return run(world, mj, data, steps)
+    return run(world, mj, data, steps, integrator)
 
 
 class _Joints:
@@ -195,20 +197,26 @@ def main() -> None:
     parser.add_argument("--duration", type=float, default=1.0)
     parser.add_argument("--robots", type=int, default=8, help="robots dropped together")
     parser.add_argument(
+        "--mujoco-integrator", choices=["IMPLICITFAST", "RK4", "EULER"], default="IMPLICITFAST"
+    )
+    parser.add_argument(
         "--self-contact", action="store_true", help="abdsim's links collide with each other"
     )
     args = parser.parse_args()
     steps = int(round(args.duration / DT))
     path = robot_file(QUADRUPEDS[args.robot])
     out = Path(tempfile.mkdtemp(prefix="abdsim_robots_"))
-    n, own = args.robots, args.self_contact
+    n, own, mi = args.robots, args.self_contact, args.mujoco_integrator
     cases = [
-        (f"{args.robot} standing, position control", lambda: standing(path, out, steps, own)),
-        ("Panda holding a pose", lambda: panda(out, steps)),
-        (f"{n} × {args.robot} dropped", lambda: dropped_together(path, out, steps, n, own)),
+        (f"{args.robot} standing, position control", lambda: standing(path, out, steps, mi, own)),
+        ("Panda holding a pose", lambda: panda(out, steps, mi)),
+        (f"{n} × {args.robot} dropped", lambda: dropped_together(path, out, steps, mi, n, own)),
     ]
     contacts = "robot–ground and robot–robot (abdsim)" if own else "robot–ground only"
-    print(f"dt = {DT:g} s, {args.duration:g} s, contacts: {contacts}; speed: {CONVENTION}")
+    print(
+        f"dt = {DT:g} s, {args.duration:g} s, contacts: {contacts}, MuJoCo "
+        f"{args.mujoco_integrator}; speed: {CONVENTION}"
+    )
     print(
         f"{'case':34s} {'abdsim steps/s':>15s} {'MuJoCo steps/s':>15s} {'speed':>7s} "
         f"{'abdsim min gap (m)':>19s} {'MuJoCo max pen. (m)':>20s}"
