@@ -60,6 +60,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         action="store_true",
         help="the dropped robot's links collide with each other in abdsim (MuJoCo's do not)",
     )
+    robot.add_argument(
+        "--friction", type=float, help="foot–ground friction of the dropped robot (1.0)"
+    )
     robot.add_argument("--kp", type=float, help="position gain of the dropped robot's joints")
     robot.add_argument("--kv", type=float, help="velocity gain of the dropped robot's joints")
     for flag, meta, what in (
@@ -100,7 +103,7 @@ def _robot_options(args: argparse.Namespace) -> dict:
     for key in ("perturb_mass", "perturb_anchor", "perturb_axis"):
         if getattr(args, key):
             options[key] = dict(getattr(args, key))
-    for key in ("kp", "kv", "self_contact"):
+    for key in ("kp", "kv", "friction", "self_contact"):
         if getattr(args, key) not in (None, False):
             if not args.floating:
                 flag = "--" + key.replace("_", "-")

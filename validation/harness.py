@@ -86,7 +86,7 @@ def validate(
         robot: options of a URDF robot's run: ``q`` (Pinocchio configuration), ``kappa``,
             wrong models ``perturb_mass`` {link: factor}, ``perturb_anchor`` {joint: m},
             ``perturb_axis`` {joint: rad}, ``settings`` (abdsim scene settings); dropped
-            robots also ``kp``, ``kv``, ``drop_height`` and ``self_contact``.
+            robots also ``kp``, ``kv``, ``drop_height``, ``friction`` and ``self_contact``.
 
     Raises:
         ValueError: unknown file type, a model MuJoCo or Pinocchio rejects, a scene with

@@ -82,10 +82,12 @@ def test_command_line_drop_with_given_gains(solo12, tmp_path, capsys):
     """20 ms of free fall from the command line: both fall alike, every check passes."""
     out = tmp_path / "out"
     argv = ["validate", str(solo12), "--floating", "--dt", "2e-3", "--duration", "0.02"]
-    assert main(argv + ["--kp", "6", "--kv", "0.2", "--out", str(out), "--quiet"]) == 0
+    gains = ["--kp", "6", "--kv", "0.2", "--friction", "0.8"]
+    assert main(argv + gains + ["--out", str(out), "--quiet"]) == 0
     assert "PASSED" in capsys.readouterr().out
     metrics = json.loads((out / "metrics.json").read_text())
-    assert (metrics["settings"]["kp"], metrics["settings"]["kv"]) == (6.0, 0.2)
+    settings = metrics["settings"]
+    assert (settings["kp"], settings["kv"], settings["friction"]) == (6.0, 0.2, 0.8)
     gaps = metrics["gaps"]
     assert gaps["abdsim_min_gap"] == pytest.approx(0.05 - 0.5 * 9.81 * 0.02**2, abs=2e-3)
 
