@@ -309,7 +309,7 @@ def validate_drop(
             duration=duration,
             dt=dt,
             integrator=integrator,
-            mujoco_integrator=str(mj.opt.integrator).rsplit("_", 1)[-1],
+            mujoco_integrator=str(options.get("mujoco_integrator", "RK4")).upper(),
             sample_dt=sample_dt,
             kappa=float(options.get("kappa", KAPPA)),
             kp=s.kp,

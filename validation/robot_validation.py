@@ -263,7 +263,7 @@ def write_robot_report(path: Path, metrics: dict, checks: list[Check]) -> Path:
     else:
         what = (
             f"the floating robot dropped {s['drop_height'] * 100:g} cm onto the ground under "
-            f"position actuators (kp = {s['kp']:g}, kv = {s['kv']:g}) holding its stance, "
+            f"position actuators (kp = {s['kp']:.3g}, kv = {s['kv']:.3g}) holding its stance, "
             f"abdsim ({s['integrator'].upper()}, κ = {s['kappa']:g} Pa) against MuJoCo "
             f"({s['mujoco_integrator']})"
         )
