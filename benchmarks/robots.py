@@ -97,7 +97,7 @@ def panda(out: Path, steps: int, integrator: str) -> dict:
     q_load = jm.pin_positions(q)
     act = [(j.name, PANDA_KP, PANDA_KV) for j in scene.joints]
     loads = dict(zip(jm.names, q_load, strict=True))
-    mj, _ = mujoco_robot(path, out, scene, loads, actuators=act)
+    mj, _, _ = mujoco_robot(path, out, scene, loads, actuators=act)
     jm = joint_map(scene, result.model, mj)
     mj.opt.timestep = DT
     data = mujoco.MjData(mj)
@@ -163,7 +163,7 @@ def dropped_together(
     loads = dict(zip(one.names, one.q_load, strict=True))
     act = [(n, kp, kv) for n in one.names]
     for k, offset in enumerate(offsets):
-        child, _ = mujoco_robot_spec(
+        child, _, _ = mujoco_robot_spec(
             path, out, _Joints(one), loads, floating=True, actuators=act, floor=False
         )
         frame = spec.worldbody.add_frame(pos=offset)

@@ -86,6 +86,7 @@ class DropSetup:
     kv: float
     stance: str
     mj_path: Path
+    notes: list[str]  #: what the MuJoCo twin changed
 
 
 def drop_setup(
@@ -160,7 +161,7 @@ def drop_setup(
     jm = joint_map(_JointsOnly(joints), result.model)
     q_load = jm.pin_positions(q)
     loads = dict(zip(jm.names, q_load, strict=True))
-    mj, mj_path = mujoco_robot(
+    mj, mj_path, mj_notes = mujoco_robot(
         path,
         out_dir,
         _JointsOnly(joints),
@@ -182,7 +183,7 @@ def drop_setup(
     mujoco.mj_forward(mj, data)
     return DropSetup(
         result, scene, world, mj, data, base, root, q_load, jm.names, jm.mj_q, kp, kv,
-        stance, mj_path,
+        stance, mj_path, mj_notes,
     )  # fmt: skip
 
 
@@ -343,6 +344,7 @@ def validate_drop(
             "contacts in MuJoCo (and in abdsim unless self_contact)",
             f"stance: {s.stance}; MuJoCo's largest penetration {penetration:.3g} m",
         ]
+        + s.notes
         + list(s.result.notes),
     }
     out = {k: out_dir / v for k, v in files.items()}

@@ -72,15 +72,15 @@ def joint_map(scene, pin_model, mj_model=None) -> JointMap:
 
 
 def mujoco_robot(urdf: Path, out_dir: Path, scene, q_load: dict[str, float], **options):
-    """(MjModel, path of the MuJoCo-ready URDF): ``mujoco_robot_spec`` compiled.
+    """(MjModel, path of the MuJoCo-ready URDF, notes): ``mujoco_robot_spec`` compiled.
 
     Raises:
         ValueError: MuJoCo rejects or cannot compile the file (its message).
     """
 
-    spec, path = mujoco_robot_spec(urdf, out_dir, scene, q_load, **options)
+    spec, path, notes = mujoco_robot_spec(urdf, out_dir, scene, q_load, **options)
     try:
-        return spec.compile(), path
+        return spec.compile(), path, notes
     except ValueError as err:
         raise ValueError(f"MuJoCo could not compile {urdf}: {err}") from err
 
@@ -96,7 +96,9 @@ def mujoco_robot_spec(
     actuators: list[tuple[str, float, float]] = (),
     floor: bool = True,
 ):
-    """(MjSpec, path of the MuJoCo-ready URDF) of ``urdf`` with ``scene``'s joint physics.
+    """(MjSpec, path of the MuJoCo-ready URDF, notes) of ``urdf`` with ``scene``'s joint
+    physics. MuJoCo turns a URDF ``<mimic>`` into a joint equality constraint, which abdsim's
+    articulation (and Pinocchio's model) do not have: it is removed, with a note.
 
     Args:
         urdf: the robot file.
@@ -123,6 +125,13 @@ def mujoco_robot_spec(
         spec = mujoco.MjSpec.from_file(str(path))
     except ValueError as err:
         raise ValueError(f"MuJoCo rejected {urdf}: {err}") from err
+    notes = []
+    for eq in list(spec.equalities):
+        notes.append(
+            f"MuJoCo's equality between {eq.name1!r} and {eq.name2!r} (from a URDF <mimic>) is "
+            "removed: abdsim's articulation has no such coupling"
+        )
+        spec.delete(eq)
     by_name = {j.name: j for j in scene.joints}
     for joint in spec.joints:
         ours = by_name.get(joint.name)
@@ -153,7 +162,7 @@ def mujoco_robot_spec(
         act = spec.add_actuator(name=f"{name}_position", target=name)
         act.trntype = mujoco.mjtTrn.mjTRN_JOINT
         act.set_to_position(kp=kp, kv=kv)
-    return spec, path
+    return spec, path, notes
 
 
 def add_floor(spec, friction: float) -> None:

@@ -95,12 +95,13 @@ def validate_robot(
     pin_model = result.model
     jm = joint_map(scene, pin_model)
     q_load = jm.pin_positions(q0)
-    mj, mj_path = mujoco_robot(path, out_dir, scene, dict(zip(jm.names, q_load, strict=True)))
+    loads = dict(zip(jm.names, q_load, strict=True))
+    mj, mj_path, mj_notes = mujoco_robot(path, out_dir, scene, loads)
     jm = joint_map(scene, pin_model, mj)
     notes = [
         f"{mj_path.name} (beside this report) is the URDF as MuJoCo compiled it: package:// "
         "mesh paths resolved, visuals dropped; its joints get abdsim's joint physics"
-    ]
+    ] + mj_notes
     damping = np.zeros(pin_model.nv)
     for j in scene.joints:
         damping[pin_model.idx_vs[pin_model.getJointId(j.name)]] = j.damping
