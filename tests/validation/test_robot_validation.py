@@ -140,6 +140,13 @@ def test_a_continuous_joint_swinging_through_pi(tmp_path):
     assert spin["max_position_error_pinocchio"] < 1e-3  # measured 0.21 mrad
 
 
+@pytest.mark.xfail(
+    strict=True,
+    reason="the loaders now simulate URDF <limit> (issue 11, robots-load): the fingers, "
+    "released 2 mm below their 0.04 m limit, reach it within 0.3 s, where MuJoCo's soft limit, "
+    "abdsim's barrier and Pinocchio's limitless ABA part (with limits stripped, MuJoCo and "
+    "Pinocchio agree to round-off and abdsim follows both within 3.9e-5 m)",
+)
 def test_the_panda_fingers_mimic_is_not_imposed_on_mujoco(tmp_path):
     """MuJoCo couples the Panda's fingers (URDF <mimic>) by an equality that abdsim and
     Pinocchio do not have: the twin drops it, with a note, and then follows Pinocchio
