@@ -129,6 +129,7 @@ void World::set_state(const VecX& q, const VecX& q_dot) {
   }
   has_history_ = false;
   fresh_state_ = true;
+  warm_valid_.clear();  // the last solve's joint forces say nothing about this state
 }
 
 void World::set_time(double t) {

@@ -160,7 +160,13 @@ class World {
   // world_constraints.cpp: the rows of every constraint at x, their use in the island start,
   // the projection of x_ onto them, and their violation.
   void constraint_rows(const VecX& x, std::vector<ConstraintRow>& rows) const;
+  void mark_jointed();
   void join_constrained_islands(std::vector<unsigned char>& near);
+  // Where a jointed body heads first: q̃ + c² a with a = (x − q̃)/c² of its last solve (its
+  // constraint and joint forces per unit mass, smooth from step to step), so that Newton
+  // starts within round-off of the solution's first-order part. False when it has none.
+  bool warm_guess(int b, double c2, Vec12& x) const;
+  void remember_warm_start(double c2);
   void project_constraints();
   void constraint_diagnostics(StepDiagnostics& d) const;
   // islands (union-find over bodies; roots are the smallest index)
@@ -179,6 +185,8 @@ class World {
   std::vector<unsigned char> jointed_;  // movable bodies under a constraint this step
   KktFactorisation kkt_newton_, kkt_projection_;  // patterns kept from solve to solve
   bool nonlinear_constraints_ = false;
+  VecX warm_accel_;                          // per jointed body: (x − q̃)/c² of its last solve
+  std::vector<unsigned char> warm_valid_;    // warm_accel_ holds a value for the body
 
   VecX q_, q_dot_;            // current state
   VecX q_prev_, q_dot_prev_;  // previous state (BDF2)

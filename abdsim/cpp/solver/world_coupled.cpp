@@ -234,6 +234,16 @@ void World::place_kinematic_bodies(StepDiagnostics& d) {
 // start clipped by CCD short of the free solution would sit deep in the barrier, where
 // Newton on a log barrier only creeps back out.
 void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
+  // Jointed bodies head for their warm guess (warm_guess): islands of them start there when
+  // that move is feasible (every step bound 1), else where they are.
+  mark_jointed();
+  std::vector<unsigned char> warm(n_, 0);
+  for (int b = 0; b < n_; ++b) {
+    if (!jointed_[b] || driven_[b]) continue;
+    Vec12 guess;
+    warm[b] = warm_guess(b, c2, guess);
+    if (warm[b]) x_free_.segment<12>(12 * b) = guess;
+  }
   dq_.setZero(12 * n_);
   for (int b = 0; b < n_; ++b)
     if (movable_[b]) dq_.segment<12>(12 * b) = x_free_.segment<12>(12 * b) - x_.segment<12>(12 * b);
@@ -252,6 +262,9 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   const double global = step_bounds(x_, dq_, movable_, near, links);
   for (const BodyLink& l : links) merge_islands(l.a, l.b);
   join_constrained_islands(near);
+  std::vector<unsigned char> warm_island(n_, 1);  // per island root: start at the warm guess
+  for (int b = 0; b < n_; ++b)
+    if (movable_[b] && !(warm[b] && bound_[b] >= 1.0 && global >= 1.0)) warm_island[island(b)] = 0;
   std::vector<unsigned char> stays(n_, 0);  // per island root: start where it is
   for (int b = 0; b < n_; ++b)
     if (movable_[b] && (near[b] || bound_[b] < 1.0 || global < 1.0)) stays[island(b)] = 1;
@@ -301,7 +314,7 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
     if (!movable_[b]) continue;
     const double bound = std::min(bound_[b], global);
     d.min_term_max_step = std::min(d.min_term_max_step, bound);
-    if (!stays[island(b)]) x_.segment<12>(12 * b) = x_free_.segment<12>(12 * b);
+    if (!stays[island(b)] || warm_island[island(b)]) x_.segment<12>(12 * b) = x_free_.segment<12>(12 * b);
     all_clear = all_clear && solved[b];
   }
   project_constraints();  // constrained bodies start where they are: on c = 0
@@ -744,6 +757,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     }
   }
   d.converged = true;
+  remember_warm_start(c2);
   d.newton_iterations = std::max(d.newton_iterations, free_newton);
   d.linear_solver = solver_used.empty() ? "block_diagonal" : solver_used;
 
