@@ -87,48 +87,45 @@ bool TreeKkt::build_forest(const BlockSystem& system, const std::vector<Constrai
   return true;
 }
 
+void TreeKkt::solve_node(const Node& node, const Vec12& rhs, const Values& c, Vec12& x,
+                         Values& lambda) const {
+  // H x + Jᵀ λ = rhs, J x = −c: λ = S⁻¹ (J H⁻¹ rhs + c), x = H⁻¹ (rhs − Jᵀ λ).
+  x = node.llt.solve(rhs);
+  if (node.J.rows() == 0) return;
+  lambda = node.S.solve(node.J * x + c);
+  x -= node.llt.solve(node.J.transpose() * lambda);
+}
+
 bool TreeKkt::factor_node(int b) {
   Node& node = nodes_[b];
   node.llt.compute(node.H);
   if (node.llt.info() != Eigen::Success) return false;
   const Eigen::Index m = node.J.rows();
-  const Vec12 x0 = node.llt.solve(node.r);
+  Cols12 U;  // L⁻¹ Jᵀ
   if (m > 0) {
-    node.HiJt = node.llt.solve(node.J.transpose());
-    node.S.compute(node.J * node.HiJt);
+    U = node.J.transpose();
+    node.llt.matrixL().solveInPlace(U);
+    Square S;
+    S.noalias() = U.transpose() * U;
+    node.S.compute(S);
     if (node.S.info() != Eigen::Success) return false;
-    const auto L = node.S.matrixL();
-    double lo = L(0, 0), hi = L(0, 0);
-    for (Eigen::Index k = 1; k < m; ++k) {
-      lo = std::min(lo, L(k, k));
-      hi = std::max(hi, L(k, k));
-    }
-    if (!(lo * lo > kPivotFloor * hi * hi)) return false;
-    node.yl = node.S.solve(node.J * x0 + node.c);
-    node.yx = x0 - node.HiJt * node.yl;
-  } else {
-    node.yx = x0;
+    const auto L = node.S.matrixLLT().diagonal();
+    if (!(L.minCoeff() * L.minCoeff() > kPivotFloor * L.maxCoeff() * L.maxCoeff())) return false;
   }
+  solve_node(node, node.r, node.c, node.yx, node.yl);
   if (node.parent < 0) return true;
-  if (node.coupling) {
-    const Mat12 HiC = node.llt.solve(*node.coupling);
-    if (m > 0) {
-      node.Wl = node.S.solve(node.J * HiC - node.JP);
-      node.Wx = HiC - node.HiJt * node.Wl;
-    } else {
-      node.Wx = HiC;
-    }
-  } else {
-    node.Wl = node.S.solve(-node.JP);  // m > 0: the edge to the parent is made of rows
-    node.Wx = -node.HiJt * node.Wl;
-  }
   Node& parent = nodes_[node.parent];
+  Rows12 Q = -node.JP;  // J H⁻¹ H_bP − J_P, then L_S⁻¹ of it
   if (node.coupling) {
-    parent.H.noalias() -= node.coupling->transpose() * node.Wx;
+    Mat12 V = *node.coupling;
+    node.llt.matrixL().solveInPlace(V);
+    if (m > 0) Q.noalias() += U.transpose() * V;
+    parent.H.noalias() -= V.transpose() * V;
     parent.r.noalias() -= node.coupling->transpose() * node.yx;
   }
   if (m > 0) {
-    parent.H.noalias() -= node.JP.transpose() * node.Wl;
+    node.S.matrixL().solveInPlace(Q);
+    parent.H.noalias() += Q.transpose() * Q;
     parent.r.noalias() -= node.JP.transpose() * node.yl;
   }
   return true;
@@ -192,12 +189,20 @@ bool TreeKkt::solve(const BlockSystem& system, const std::vector<ConstraintRow>&
     if (!factor_node(*it)) return false;
 
   x.setZero(12 * n);
+  Vec12 w;
+  Values t;
   for (const int b : order_) {
     const Node& node = nodes_[b];
-    if (node.parent < 0)
+    if (node.parent < 0) {
       x.segment<12>(12 * b) = node.yx;
-    else
-      x.segment<12>(12 * b) = node.yx - node.Wx * x.segment<12>(12 * node.parent);
+      continue;
+    }
+    // u_b = y_b − K_b⁻¹ C_b x_P, C_b x_P = [H_bP x_P; J_P x_P].
+    const Vec12 xp = x.segment<12>(12 * node.parent);
+    const Vec12 a = node.coupling ? Vec12(*node.coupling * xp) : Vec12::Zero();
+    const Values jp = node.JP * xp;
+    solve_node(node, a, Values(-jp), w, t);
+    x.segment<12>(12 * b) = node.yx - w;
   }
   return x.allFinite();
 }

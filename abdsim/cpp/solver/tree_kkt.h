@@ -8,9 +8,11 @@
 // each node's own rows are independent), and it is exact: no regularisation, no refinement.
 //
 // Per node b with parent P: K_b = [H_bb Jᵀ; J 0] (H_bb already updated by b's children),
-// C_b = [H_bP; J_P] its coupling to x_P. With y_b = K_b⁻¹ z_b and W_b = K_b⁻¹ C_b, P gets
-// H_PP −= C_bᵀ W_b and z_P −= C_bᵀ y_b; back-substitution from the roots: u_b = y_b − W_b x_P.
-// K_b⁻¹ goes through the Cholesky factors of H_bb and of S = J H_bb⁻¹ Jᵀ (range space).
+// C_b = [H_bP; J_P] its coupling to x_P. With y_b = K_b⁻¹ z_b, P gets
+// H_PP −= C_bᵀ K_b⁻¹ C_b and z_P −= C_bᵀ y_b; back-substitution from the roots:
+// u_b = y_b − K_b⁻¹ C_b x_P. With H_bb = L Lᵀ and S = J H_bb⁻¹ Jᵀ = L_S L_Sᵀ,
+// C_bᵀ K_b⁻¹ C_b = VᵀV − QᵀQ for V = L⁻¹ H_bP and Q = L_S⁻¹ (J H_bb⁻¹ H_bP − J_P): two
+// symmetric products, and K_b⁻¹ C_b is only ever applied to a vector.
 #pragma once
 #include <Eigen/Cholesky>
 #include <vector>
@@ -22,6 +24,13 @@ namespace abd {
 
 class TreeKkt {
  public:
+  // A node carries at most 12 rows (more cannot be independent on its 12 unknowns): every
+  // per-node matrix has a fixed capacity, so a solve allocates nothing once sized.
+  using Rows12 = Eigen::Matrix<double, Eigen::Dynamic, 12, Eigen::RowMajor, 12, 12>;
+  using Cols12 = Eigen::Matrix<double, 12, Eigen::Dynamic, Eigen::ColMajor, 12, 12>;
+  using Square = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 12, 12>;
+  using Values = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 12, 1>;
+
   // x over every body (zero on the bodies fixed in `system`), as KktFactorisation::solve.
   // Returns false (x unspecified) when the structure is not a forest, a node carries more
   // rows than it has unknowns, or a pivot block is not (numerically) positive definite: the
@@ -36,20 +45,20 @@ class TreeKkt {
     Mat12 H;                        // H_bb, then updated by the children
     Vec12 r;                        // rhs_b, updated by the children
     Eigen::LLT<Mat12> llt;
-    Eigen::MatrixXd J, JP;          // m × 12: the node's rows on x_b and on x_P
-    Eigen::VectorXd c;              // their values
-    Eigen::MatrixXd HiJt;           // H_bb⁻¹ Jᵀ (12 × m)
-    Eigen::LLT<Eigen::MatrixXd> S;  // J H_bb⁻¹ Jᵀ
+    Rows12 J, JP;                   // m × 12: the node's rows on x_b and on x_P
+    Values c;                       // their values
+    Eigen::LLT<Square> S;           // J H_bb⁻¹ Jᵀ
     Vec12 yx;                       // y_b = K_b⁻¹ z_b: x part, λ part
-    Eigen::VectorXd yl;
-    Mat12 Wx;                       // W_b = K_b⁻¹ C_b: x part, λ part
-    Eigen::MatrixXd Wl;
+    Values yl;
   };
   // Parents of a rooted spanning forest (order_ from the roots down); false when the graph
   // of rows and couplings over free bodies has a cycle.
   bool build_forest(const BlockSystem& system, const std::vector<ConstraintRow>& rows);
-  // Node b eliminated: its factors, y_b and W_b; false when a pivot block fails.
+  // Node b eliminated into its parent: its factors and y_b; false when a pivot block fails.
   bool factor_node(int b);
+  // K_b⁻¹ [rhs; −c] for the node's factors: (x part, λ part).
+  void solve_node(const Node& node, const Vec12& rhs, const Values& c, Vec12& x,
+                  Values& lambda) const;
 
   std::vector<Node> nodes_;
   std::vector<int> order_;           // free bodies, every parent before its children
