@@ -17,6 +17,7 @@
 
 #include "bindings/bindings.h"
 #include "bindings/checked_property.h"
+#include "contact/ipc_contact_term.h"
 #include "solver/constrained_solve.h"
 #include "solver/energy_term.h"
 #include "solver/shape_energy_term.h"

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "common/affine.h"
+#include "contact/ipc_contact_term.h"
 #include "solver/body_math.h"
 #include "solver/parallel.h"
 #include "solver/world_detail.h"

@@ -34,7 +34,6 @@
 #include <memory>
 #include <vector>
 
-#include "contact/ipc_contact_term.h"
 #include "mass/dyadic_mass.h"
 #include "solver/block_system.h"
 #include "solver/constrained_solve.h"
@@ -46,6 +45,11 @@
 #include "solver/shape_energy_term.h"
 
 namespace abd {
+
+// Contact is one EnergyTerm among others to the Newton loop; only building it and reporting
+// on it (world_contact.cpp) know its type.
+class IpcContactTerm;
+struct ContactSettings;
 
 class World {
  public:
@@ -148,7 +152,7 @@ class World {
   double step_bounds(const VecX& x, const VecX& dq, const std::vector<unsigned char>& mask,
                      std::vector<unsigned char>& near, std::vector<BodyLink>& links);
   void start_iterate(bool split, double c2, StepDiagnostics& d);
-  void initialize_contact_stiffness(double c2, const VecX& grad_bodies);
+  void balance_term_stiffness(double c2, const VecX& grad_bodies);
   // Π_b of one movable body without terms (kinetic or drive, plus c² shape); with g and H
   // (if non-null) its gradient and Hessian.
   double body_energy(int b, const Vec12& x, double c2, Vec12* g, Mat12* H) const;

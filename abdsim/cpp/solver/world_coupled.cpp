@@ -270,7 +270,9 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
     if (movable_[b] && (near[b] || bound_[b] < 1.0 || global < 1.0)) stays[island(b)] = 1;
 
   // Free solutions of the bodies of islands that nothing comes near.
-  const double slack = contact_ ? 0.25 * contact_->settings().d_hat : 0.0;
+  double reach = 0.0;
+  for (const auto& t : terms_) reach = std::max(reach, t->reach());
+  const double slack = 0.25 * reach;
   free_iterations_.assign(n_, 0);
   std::vector<unsigned char> solved(n_, 0), strayed(n_, 0);
   for (int b = 0; b < n_; ++b) solved[b] = split && movable_[b] && !driven_[b] && !stays[island(b)];
@@ -319,8 +321,8 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   }
   project_constraints();  // constrained bodies start where they are: on c = 0
   for (const auto& t : terms_) {
-    if (all_clear && t.get() == contact_.get())
-      contact_->set_no_active_pairs(x_);  // what update() would find, without the query
+    if (all_clear)
+      t->update_clear(x_);  // what update() would find, without the proximity query
     else
       t->update(x_);
   }
@@ -330,7 +332,7 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   if (!split) return;
   // Islands with nothing near, at their free solution, with no contact there: solved.
   std::vector<unsigned char> engaged(n_, 0);
-  if (contact_) contact_->mark_active_bodies(engaged);
+  for (const auto& t : terms_) t->mark_active_bodies(engaged);
   std::vector<unsigned char> free_island(n_, 1);
   for (int b = 0; b < n_; ++b)
     if (movable_[b] && (near[b] || stays[island(b)] || !solved[b] || engaged[b]))
@@ -339,21 +341,21 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
     if (movable_[b] && free_island[island(b)]) frozen_[b] = converged_[b] = 1;
 }
 
-// IPC's adaptive κ: at the start of every step with active contact, balance the barrier's
-// gradient against the rest of Π's at the start iterate (clamped to [κ_min, κ_max]); within
-// the step, update() doubles it while a gap keeps closing below 1e-9 × the scene size. (A κ
-// that only ever grew ended at κ_max after the first hard landing, and the stiffer barrier
-// took two to three times the Newton iterations from then on.)
-void World::initialize_contact_stiffness(double c2, const VecX& grad_bodies) {
-  if (!contact_ || !contact_->adaptive_kappa()) return;
-  const ContactCounts c = contact_->counts();
-  if (c.point_triangle + c.edge_edge + c.point_ground == 0) return;
-  VecX grad_rest = grad_bodies;
-  for (const auto& t : terms_)
-    if (t.get() != contact_.get()) t->add_gradient(x_, c2, grad_rest);
-  for (int b = 0; b < n_; ++b)
-    if (!movable_[b]) grad_rest.segment<12>(12 * b).setZero();
-  contact_->initialize_kappa(x_, grad_rest);
+// Terms that balance a stiffness against the rest of Π at the start iterate (IPC's adaptive
+// κ: the barrier's gradient against everything else's, clamped to [κ_min, κ_max]; within the
+// step, update() doubles it while a gap keeps closing below 1e-9 × the scene size. A κ that
+// only ever grew ended at κ_max after the first hard landing, and the stiffer barrier took
+// two to three times the Newton iterations from then on).
+void World::balance_term_stiffness(double c2, const VecX& grad_bodies) {
+  for (const auto& term : terms_) {
+    if (!term->balances_stiffness()) continue;
+    VecX grad_rest = grad_bodies;
+    for (const auto& t : terms_)
+      if (t != term) t->add_gradient(x_, c2, grad_rest);
+    for (int b = 0; b < n_; ++b)
+      if (!movable_[b]) grad_rest.segment<12>(12 * b).setZero();
+    term->balance_stiffness(x_, grad_rest);
+  }
 }
 
 void World::solve_coupled(double c2, StepDiagnostics& d) {
@@ -381,25 +383,11 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   // Where each body heads (its prediction; the target, for a driven kinematic body).
   x_free_ = x_pred_;
 
-  // Newton tolerances per body. Static friction is a spring of stiffness μλ / (ε_v h): a
-  // force it cannot hold moves a Newton step of only ~ε_v h before the contact slides, so
-  // below ε_v in velocity units a step tolerance cannot tell sticking from the onset of
-  // sliding. Bodies with lagged friction this step converge to 0.1 ε_v (translation) and
-  // 0.1 ε_v / radius (affine) at most.
+  // Newton tolerances per body: the settings', tightened by terms whose force turns over a
+  // small speed (friction; EnergyTerm::limit_tolerances).
   tol_translation_.setConstant(n_, settings_.tol_translation);
   tol_affine_.setConstant(n_, settings_.tol_affine);
-  if (contact_) {
-    std::vector<unsigned char> rubbing(n_, 0);
-    contact_->mark_friction_bodies(rubbing);
-    const double tol = 0.1 * contact_->settings().eps_v;
-    for (int b = 0; b < n_; ++b)
-      if (rubbing[b]) {
-        tol_translation_[b] = std::min(tol_translation_[b], tol);
-        tol_affine_[b] = std::min(tol_affine_[b], tol / radius_[b]);
-      }
-  }
-
-  for (const auto& t : terms_) t->limit_tolerances(tol_translation_, tol_affine_);
+  for (const auto& t : terms_) t->limit_tolerances(tol_translation_, tol_affine_, radius_);
 
   // 1. Kinematic bodies; 2. the start iterate.
   x_ = q_;
@@ -439,13 +427,16 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       bool changed = false;
       for (const auto& t : terms_) changed = t->refresh_lagged(x_) || changed;
       if (changed) {
-        std::vector<unsigned char> rubbing(n_, 0);
-        if (contact_) contact_->mark_friction_bodies(rubbing);
-        const double tol = contact_ ? 0.1 * contact_->settings().eps_v : 0.0;
+        // The bodies the refresh changed iterate again, to the tolerances of the new
+        // lagged state.
+        std::vector<unsigned char> lagged(n_, 0);
+        for (const auto& t : terms_) t->mark_lagged_bodies(lagged);
+        VecX tol_t = tol_translation_, tol_a = tol_affine_;
+        for (const auto& t : terms_) t->limit_tolerances(tol_t, tol_a, radius_);
         for (int b = 0; b < n_; ++b) {
-          if (!rubbing[b] || !movable_[b]) continue;
-          tol_translation_[b] = std::min(tol_translation_[b], tol);
-          tol_affine_[b] = std::min(tol_affine_[b], tol / radius_[b]);
+          if (!lagged[b] || !movable_[b]) continue;
+          tol_translation_[b] = tol_t[b];
+          tol_affine_[b] = tol_a[b];
           frozen_[island(b)] = converged_[island(b)] = 0;
         }
         links.clear();
@@ -488,7 +479,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     if (it == 0) {
       // κ from the gradient balance at the start iterate (grad_ holds the bodies' own part
       // of ∇Π now), then Π at the start with that κ.
-      initialize_contact_stiffness(c2, grad_);
+      balance_term_stiffness(c2, grad_);
       links.clear();
       rest = body_energies(x_, c2, body_E_, links);
       for (const BodyLink& l : links) merge_islands(l.a, l.b);
@@ -729,7 +720,8 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     }
 
     // Accept: terms see the new iterate; islands they now link iterate again together.
-    const double kappa_before = contact_ ? contact_->kappa() : 0.0;
+    std::vector<double> parameters;
+    for (const auto& t : terms_) parameters.push_back(t->energy_parameter());
     for (const auto& t : terms_) t->update(x_);
     d.time_contact_update += lap.split();
     for (int r = 0; r < n_; ++r)
@@ -737,7 +729,10 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     links.clear();
     for (const auto& t : terms_) t->body_links(movable_, links);
     for (const BodyLink& l : links) merge_islands(l.a, l.b);
-    if (contact_ && contact_->kappa() != kappa_before) {  // adaptive κ doubled: Π changed
+    bool reparametrised = false;  // e.g. adaptive κ doubled: Π changed
+    for (std::size_t k = 0; k < terms_.size(); ++k)
+      reparametrised = reparametrised || terms_[k]->energy_parameter() != parameters[k];
+    if (reparametrised) {
       links.clear();
       rest = body_energies(x_, c2, body_E_, links);
       for (const BodyLink& l : links) merge_islands(l.a, l.b);
