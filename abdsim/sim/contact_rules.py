@@ -21,13 +21,15 @@ if TYPE_CHECKING:
 @dataclass
 class ContactRules:
     """Per-body element ids, the ground's id and, when any rule departs from the defaults,
-    the (n, n) matrices enabled / μ / ζ over ids 0..ground_id (None otherwise)."""
+    the (n, n) matrices enabled / μ / ζ / restitution e (−1: none) over ids 0..ground_id
+    (None otherwise)."""
 
     elements: np.ndarray
     ground_id: int
     enabled: np.ndarray | None = None
     mu: np.ndarray | None = None
     zeta: np.ndarray | None = None
+    restitution: np.ndarray | None = None
 
 
 def contact_rules(scene: Scene) -> ContactRules:
@@ -58,6 +60,7 @@ def contact_rules(scene: Scene) -> ContactRules:
     enabled = np.ones((n, n), dtype=np.int32)
     mu = np.full((n, n), float(st.friction))
     zeta = np.full((n, n), float(st.contact_damping))
+    e = np.full((n, n), -1.0 if st.restitution is None else float(st.restitution))
     if ground_mu is not None:
         mu[first_own, :] = mu[:, first_own] = ground_mu
     if ground_zeta is not None:
@@ -71,9 +74,12 @@ def contact_rules(scene: Scene) -> ContactRules:
         damping = scene.contact_table.damping(a, b)
         if damping is not None:
             zeta[i, j] = zeta[j, i] = damping
+        restitution = scene.contact_table.restitution(a, b)
+        if restitution is not None:
+            e[i, j] = e[j, i] = restitution
     index = np.array(origin + [first_own])
     grid = np.ix_(index, index)
-    enabled, mu, zeta = enabled[grid], mu[grid], zeta[grid]
+    enabled, mu, zeta, e = enabled[grid], mu[grid], zeta[grid], e[grid]
     for a, b in exclusions:
         enabled[elements[a], elements[b]] = enabled[elements[b], elements[a]] = 0
-    return ContactRules(elements, ground_id, enabled, mu, zeta)
+    return ContactRules(elements, ground_id, enabled, mu, zeta, e)
