@@ -126,15 +126,19 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   }
   if (recheck) {
     // Some free solutions strayed from the checked path: check the solved bodies' own moves
-    // (everything else where it starts).
+    // with the jointed islands' moves to their warm guesses (everything else where it
+    // starts); a warm island whose move is no longer clear starts where it is.
     dq_.setZero(12 * n_);
     for (int b = 0; b < n_; ++b)
-      if (solved[b]) dq_.segment<12>(12 * b) = x_free_.segment<12>(12 * b) - x_.segment<12>(12 * b);
+      if (solved[b] || (warm[b] && warm_island[island(b)]))
+        dq_.segment<12>(12 * b) = x_free_.segment<12>(12 * b) - x_.segment<12>(12 * b);
     std::vector<unsigned char> near2;
     std::vector<BodyLink> links2;
-    step_bounds(x_, dq_, movable_, near2, links2);
-    for (int b = 0; b < n_; ++b)
+    const double global2 = step_bounds(x_, dq_, movable_, near2, links2);
+    for (int b = 0; b < n_; ++b) {
       if (solved[b] && (near2[b] || bound_[b] < 1.0)) solved[b] = 0;
+      if (warm[b] && (bound_[b] < 1.0 || global2 < 1.0)) warm_island[island(b)] = 0;
+    }
   }
   for (int b = 0; b < n_; ++b)
     if (split && movable_[b] && !driven_[b] && !stays[island(b)] && !solved[b])
@@ -146,6 +150,29 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
     d.min_term_max_step = std::min(d.min_term_max_step, bound);
     if (!stays[island(b)] || warm_island[island(b)]) x_.segment<12>(12 * b) = x_free_.segment<12>(12 * b);
     all_clear = all_clear && solved[b];
+  }
+  // The warm islands' moves were checked with the other bodies moving too: check them once
+  // more against where everything else now starts (only terms with a reach can object); an
+  // island whose move is not clear starts where it is.
+  auto warm_start = [&](int b) { return movable_[b] && warm[b] && warm_island[island(b)]; };
+  bool any_warm = false;
+  for (int b = 0; b < n_; ++b) any_warm = any_warm || warm_start(b);
+  if (any_warm && reach > 0.0) {
+    VecX from = x_;
+    dq_.setZero(12 * n_);
+    for (int b = 0; b < n_; ++b)
+      if (warm_start(b)) {
+        from.segment<12>(12 * b) = q_.segment<12>(12 * b);
+        dq_.segment<12>(12 * b) = x_.segment<12>(12 * b) - q_.segment<12>(12 * b);
+      }
+    std::vector<unsigned char> near3;
+    std::vector<BodyLink> links3;
+    const double global3 = step_bounds(from, dq_, movable_, near3, links3);
+    for (int b = 0; b < n_; ++b)
+      if (warm_start(b) && (bound_[b] < 1.0 || global3 < 1.0)) warm_island[island(b)] = 0;
+    for (int b = 0; b < n_; ++b)
+      if (movable_[b] && warm[b] && !warm_island[island(b)] && stays[island(b)])
+        x_.segment<12>(12 * b) = q_.segment<12>(12 * b);
   }
   project_constraints();  // constrained bodies start where they are: on c = 0
   for (const auto& t : terms_) {
