@@ -56,9 +56,6 @@ NOT_ARTICULATED = {
     # affine-body model.
     "human.urdf": "joint 'left_hip_Y' hangs from joint 'left_hip_X', whose links have neither",
 }
-#: URDFs whose 100 dynamic steps end in a SolverError at the default settings (a solver
-#: robustness finding of issue 11; deterministic, so a strict xfail).
-SOLVER_FAILURES = {"romeo_small.urdf", "alexander_v1.lowerBodyOnly.urdf"}
 #: URDFs with a link smaller than 4 d_hat (tiago's 2 mm finger boxes): the World refuses the
 #: default d_hat naming the body, and they walk with a smaller one.
 SMALL_PARTS = {"tiago.urdf": 5e-4, "tiago_dual.urdf": 5e-4}
@@ -104,12 +101,7 @@ def _params(paths: list[Path]) -> list:
     def marks(p: Path) -> list:
         heavy = p.name in HEAVY_XMLS if p.suffix == ".xml" else p.name not in LIGHT_URDFS
         out = [pytest.mark.skipif(not HEAVY, reason="heavy file: set ABDSIM_HEAVY_TESTS=1")]
-        out = out if heavy else []
-        if p.name in SOLVER_FAILURES:
-            from abdsim import SolverError
-
-            out.append(pytest.mark.xfail(raises=SolverError, strict=True, reason="solver"))
-        return out
+        return out if heavy else []
 
     return [pytest.param(p, id=_id(p), marks=marks(p)) for p in paths]
 
