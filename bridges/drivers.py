@@ -19,6 +19,10 @@ from typing import Any
 import numpy as np
 
 from abdsim.bridges._bodies import LoadResult, skew, velocity_matrix
+from abdsim.bridges.urdf import joint_kinematics
+
+# Above this many DOF, RobotDriver does not allocate a pinocchio.Data (see RobotDriver).
+_DATA_MAX_NV = 64
 
 Trajectory = Callable[[float], np.ndarray] | np.ndarray | Sequence[Sequence[float]]
 
@@ -256,7 +260,10 @@ class RobotDriver(KinematicDriver):
             raise ValueError("RobotDriver drives a URDF result (use MjcfDriver for MJCF)")
         self._pin = pin
         self._model = result.model
-        self._data = result.model.createData()
+        # pinocchio.Data holds buffers for every algorithm and grows with the cube of the
+        # joint count (0.5 GB at 200 joints, 4 GB at 400): large trees take the one-pass
+        # kinematics of the loader (a Python loop over joints) instead.
+        self._data = result.model.createData() if result.model.nv <= _DATA_MAX_NV else None
         super().__init__(result, trajectory, **kwargs)
 
     @property
@@ -270,14 +277,18 @@ class RobotDriver(KinematicDriver):
         return np.array(self._pin.integrate(self._model, q, v))
 
     def _kinematics(self, q, v):
-        self._pin.forwardKinematics(self._model, self._data, q, v)
+        if self._data is not None:
+            self._pin.forwardKinematics(self._model, self._data, q, v)
+            placements, velocities = self._data.oMi, self._data.v
+        else:
+            placements, velocities, _ = joint_kinematics(self._pin, self._model, q, v)
         n = len(self.result.bodies)
         poses, rates = np.tile(np.eye(4), (n, 1, 1)), np.zeros((n, 4, 4))
         for j, i in self.result.source_map.items():
-            oMi = self._data.oMi[j]
+            oMi = placements[j]
             R = np.array(oMi.rotation)
             poses[i] = oMi.homogeneous
-            vj = self._data.v[j]
+            vj = velocities[j]
             rates[i] = velocity_matrix(R, R @ vj.angular, R @ vj.linear)
         return poses, rates
 

@@ -5,10 +5,13 @@ order with the same ``sensor_dim``, so ``World.sensordata`` has MuJoCo's ``senso
 Supported: ``touch``, ``force``, ``torque``, ``accelerometer``, ``gyro``, ``velocimeter``
 (on sites) and ``framepos``, ``framequat`` (of a site, body (inertial frame), xbody, geom or
 camera, optionally relative to another such frame). Their frames are expressed in the frame of
-the loaded body (weld group root) the MuJoCo body belongs to. Everything else (``jointpos``,
-``jointvel``, ``actuatorfrc``: abdsim has no joints yet; other types; frames on the world or
-on a body that was not loaded) keeps its slot as an ``"unsupported"`` sensor (NaN values) and
-is named in ``LoadResult.notes``.
+the loaded body (weld group root) the MuJoCo body belongs to. ``jointpos`` and ``jointvel`` of
+hinges and slides read the joint of the same name in a scene built with
+``build_articulated_scene`` (jointpos adds the loaded qpos: MuJoCo's value), ``actuatorfrc``
+the abdsim actuator of the same index (``Scene.add_actuator``; MJCF actuators are not loaded
+yet); without them they read NaN, and notes say so. Everything else (other types; frames on
+the world or on a body that was not loaded) keeps its slot as an ``"unsupported"`` sensor (NaN
+values) and is named in ``LoadResult.notes``.
 """
 
 from __future__ import annotations
@@ -22,7 +25,7 @@ from abdsim.sim.sensors import SENSOR_DIMS, SensorSpec
 
 _SITE_SENSORS = {"touch", "force", "torque", "accelerometer", "gyro", "velocimeter"}
 _FRAME_SENSORS = {"framepos", "framequat"}
-_NEEDS_JOINTS = {"jointpos", "jointvel", "actuatorfrc"}
+_JOINT_SENSORS = {"jointpos", "jointvel", "actuatorfrc"}
 
 
 def _enum_name(enum: Any, value: int, prefix: str) -> str:
@@ -68,6 +71,28 @@ class _Frames:
         return self.source_map[root], self.loader.pose_in_root(b, root) @ X
 
 
+def _joint_sensor(loader: Any, kind: str, name: str, objid: int) -> tuple[SensorSpec | None, str]:
+    """A jointpos / jointvel / actuatorfrc sensor (and a note), or (None, why not)."""
+    mj, m = loader.mj, loader.m
+    if kind == "actuatorfrc":
+        loader.notes.append(
+            f"sensor {name!r} (actuatorfrc): reads abdsim actuator {objid} "
+            "(Scene.add_actuator; MJCF actuators are not loaded), NaN without it"
+        )
+        return SensorSpec(type=kind, body=-1, name=name, actuator=objid, dim=1, source=kind), ""
+    jtype = _enum_name(mj.mjtJoint, m.jnt_type[objid], "mjJNT_")
+    if jtype not in ("hinge", "slide"):
+        return None, f"its joint is a {jtype} joint (only hinges and slides are read)"
+    joint = m.joint(objid).name
+    offset = float(loader.d.qpos[m.jnt_qposadr[objid]]) if kind == "jointpos" else 0.0
+    loader.notes.append(
+        f"sensor {name!r} ({kind}): reads joint {joint!r} in a scene built with "
+        "build_articulated_scene, NaN otherwise"
+    )
+    spec = SensorSpec(type=kind, body=-1, name=name, joint=joint, offset=offset, dim=1, source=kind)
+    return spec, ""
+
+
 def read_sensors(loader: Any, source_map: dict[int, int]) -> list[SensorSpec]:
     """One SensorSpec per MuJoCo sensor of ``loader``'s model, in order; what cannot be
     computed becomes an ``"unsupported"`` slot and a note in ``loader.notes``."""
@@ -81,8 +106,10 @@ def read_sensors(loader: Any, source_map: dict[int, int]) -> list[SensorSpec]:
         objtype = _enum_name(mj.mjtObj, m.sensor_objtype[i], "mjOBJ_")
         why = None
         spec = None
-        if kind in _NEEDS_JOINTS:
-            why = "abdsim has no joints yet"
+        if kind in _JOINT_SENSORS:
+            spec, why = _joint_sensor(loader, kind, name, int(m.sensor_objid[i]))
+            if spec is not None:
+                spec = SensorSpec(**{**spec.__dict__, "cutoff": float(m.sensor_cutoff[i])})
         elif kind not in SENSOR_DIMS:
             why = "this sensor type is not supported"
         else:

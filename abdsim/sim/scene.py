@@ -39,12 +39,14 @@ class ContactTable:
     the ground is ``"ground"``. By default every pair collides with the scene's ``friction``
     (and the ground's own friction, if ``add_ground`` gave one). Pairs of one element with
     itself are allowed (bodies of the same element). A pair's normal damping ratio ζ
-    (``SceneSettings.contact_damping``) is set here too.
+    (``SceneSettings.contact_damping``) and coefficient of restitution e
+    (``SceneSettings.restitution``) are set here too.
     """
 
     def __init__(self) -> None:
         self._rules: dict[tuple, tuple[bool, float | None]] = {}
         self._damping: dict[tuple, float] = {}
+        self._restitution: dict[tuple, float] = {}
 
     @staticmethod
     def _key(a: int | str, b: int | str) -> tuple:
@@ -64,12 +66,16 @@ class ContactTable:
         enabled: bool = True,
         friction: float | None = None,
         damping: float | None = None,
+        restitution: float | None = None,
     ) -> None:
-        """Whether elements a and b collide (``enabled``), with which μ and which normal
-        damping ratio ζ (None: the scene's ``friction`` / ``contact_damping``)."""
+        """Whether elements a and b collide (``enabled``), with which μ, which normal
+        damping ratio ζ and which coefficient of restitution e in [0, 1] (None: the scene's
+        ``friction`` / ``contact_damping`` / ``restitution``)."""
         for name, v in (("friction", friction), ("damping", damping)):
             if v is not None and not (np.isfinite(v) and v >= 0):
                 raise ValueError(f"{name} must be finite and >= 0, got {v!r}")
+        if restitution is not None and not (np.isfinite(restitution) and 0 <= restitution <= 1):
+            raise ValueError(f"restitution must be in [0, 1], got {restitution!r}")
         key = self._key(a, b)
         self._rules[key] = (
             bool(enabled),
@@ -79,10 +85,18 @@ class ContactTable:
             self._damping.pop(key, None)
         else:
             self._damping[key] = float(damping)
+        if restitution is None:
+            self._restitution.pop(key, None)
+        else:
+            self._restitution[key] = float(restitution)
 
     def damping(self, a: int | str, b: int | str) -> float | None:
         """The pair's normal damping ratio ζ, or None for the scene's default."""
         return self._damping.get(self._key(a, b))
+
+    def restitution(self, a: int | str, b: int | str) -> float | None:
+        """The pair's coefficient of restitution e, or None for the scene's default."""
+        return self._restitution.get(self._key(a, b))
 
     def get(self, a: int | str, b: int | str) -> tuple[bool, float | None]:
         """(enabled, friction or None for the default) of a pair."""

@@ -9,7 +9,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from abdsim.sim.contact_forces import ContactForces
-from abdsim.sim.sensors import ACCELERATION_TYPES, SensorSpec
+from abdsim.sim.sensors import ACCELERATION_TYPES, JOINT_TYPES, SensorSpec
 
 
 @dataclass
@@ -88,7 +88,8 @@ def _touch(spec: SensorSpec, x: np.ndarray, R: np.ndarray, contacts: ContactForc
 def sensor_values(specs: list[SensorSpec], state: BodyState) -> np.ndarray:
     """sensordata: every sensor's values, concatenated in order (NaN for unsupported)."""
     out = [np.full(s.dim, np.nan) for s in specs]
-    idx = [i for i, s in enumerate(specs) if s.type != "unsupported"]
+    # Joint sensors are read from joints, not frames (joint_sensor_readings): NaN here.
+    idx = [i for i, s in enumerate(specs) if s.type != "unsupported" and s.type not in JOINT_TYPES]
     if not idx:
         return np.concatenate(out) if out else np.zeros(0)
     bodies = np.array([specs[i].body for i in idx])

@@ -17,6 +17,11 @@ gyro             3    angular velocity
 velocimeter      3    linear velocity of the site
 framepos         3    position of the frame (world, or in the ``ref`` frame)
 framequat        4    orientation quaternion [w, x, y, z] (world, or relative to ``ref``)
+jointpos         1    a hinge's angle or a slide's displacement, MuJoCo's qpos (``offset``, the
+                      loaded qpos, plus ``World.joint_positions()``)
+jointvel         1    the joint's rate (``World.joint_velocities()``)
+actuatorfrc      1    the force of actuator ``actuator`` (``Scene.add_actuator``) at the state:
+                      gain·u + b1·gear·θ + b2·gear·θ̇, clamped, as MuJoCo's actuator_force
 ===============  ===  ========================================================================
 
 Orientations are those of the rotation nearest to each body's A (polar decomposition).
@@ -24,8 +29,10 @@ Accelerations (accelerometer, force, torque) are the velocity change the last st
 (q̇_{t+1} − q̇_t)/h for BDF1, (3 q̇_{t+1} − 4 q̇_t + q̇_{t−1})/(2h) for BDF2, the
 accelerations its momentum balance holds for; before the first step (and after
 ``set_state``) they read 0.
-A sensor of a type abdsim cannot compute (``jointpos``, ``jointvel``, ``actuatorfrc``: no
-joints yet; others) keeps its slot, filled with NaN, so that indices stay MuJoCo's.
+Joint sensors (jointpos, jointvel, actuatorfrc) sit on a joint or an actuator, not a body
+(``SensorSet.add_joint_sensor``); one whose joint or actuator the World does not have (a
+scene loaded without ``build_articulated_scene``) reads NaN. A sensor of a type abdsim cannot
+compute keeps its slot, filled with NaN, so that indices stay MuJoCo's.
 """
 
 from __future__ import annotations
@@ -46,7 +53,12 @@ SENSOR_DIMS: dict[str, int] = {
     "velocimeter": 3,
     "framepos": 3,
     "framequat": 4,
+    "jointpos": 1,
+    "jointvel": 1,
+    "actuatorfrc": 1,
 }
+#: Types read from joints and actuators rather than a body's frame.
+JOINT_TYPES = frozenset({"jointpos", "jointvel", "actuatorfrc"})
 #: Zone shapes of touch sensors (MuJoCo site types) and how many size values they use.
 ZONE_SIZES: dict[str, int] = {"sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3, "box": 3}
 #: Types that need the last step's accelerations.
@@ -77,6 +89,9 @@ class SensorSpec:
             not applied to quaternions.
         dim: number of values (``SENSOR_DIMS[type]``; given for ``"unsupported"``).
         source: what the sensor was (e.g. the MJCF type), for messages.
+        joint: jointpos / jointvel only: the joint's name (``Scene.add_joint``).
+        actuator: actuatorfrc only: the actuator's index (``Scene.add_actuator``).
+        offset: jointpos only: added to the joint coordinate (MuJoCo's qpos at load).
     """
 
     type: str
@@ -89,6 +104,9 @@ class SensorSpec:
     cutoff: float = 0.0
     dim: int = 0
     source: str = ""
+    joint: str = ""
+    actuator: int = -1
+    offset: float = 0.0
 
 
 class SensorSet:
@@ -131,6 +149,8 @@ class SensorSet:
         Raises:
             ValueError: an unknown type or zone, a bad size, pose or cutoff, a negative body.
         """
+        if type in JOINT_TYPES:
+            raise ValueError(f"a {type} sensor sits on a joint or actuator: use add_joint_sensor")
         if type not in SENSOR_DIMS:
             raise ValueError(f"sensor type must be one of {sorted(SENSOR_DIMS)}, got {type!r}")
         label = f"sensor {name or len(self._specs)!r} ({type})"
@@ -179,12 +199,50 @@ class SensorSet:
             )
         )
 
+    def add_joint_sensor(
+        self,
+        type: str,
+        target: str | int,
+        *,
+        name: str = "",
+        offset: float = 0.0,
+        cutoff: float = 0.0,
+    ) -> int:
+        """Add a ``jointpos`` or ``jointvel`` sensor on the joint named ``target``, or an
+        ``actuatorfrc`` sensor on actuator index ``target``; ``offset`` is added to a
+        jointpos reading (MuJoCo's qpos at load). Returns the sensor's index.
+
+        Raises:
+            ValueError: another type, a target of the wrong kind, a non-finite offset or a
+                negative cutoff.
+        """
+        if type not in JOINT_TYPES:
+            raise ValueError(
+                f"joint sensor type must be one of {sorted(JOINT_TYPES)}, got {type!r}"
+            )
+        label = f"sensor {name or len(self._specs)!r} ({type})"
+        if not (np.isfinite(offset) and np.isfinite(cutoff) and cutoff >= 0):
+            raise ValueError(f"{label}: offset must be finite and cutoff finite and >= 0")
+        if type == "actuatorfrc":
+            if not isinstance(target, (int, np.integer)) or int(target) < 0:
+                raise ValueError(f"{label}: the target is an actuator index >= 0, got {target!r}")
+            spec = SensorSpec(type=type, body=-1, name=name, actuator=int(target))
+        else:
+            if not isinstance(target, str) or not target:
+                raise ValueError(f"{label}: the target is a joint name, got {target!r}")
+            spec = SensorSpec(type=type, body=-1, name=name, joint=target, offset=float(offset))
+        return self.append(
+            SensorSpec(**{**spec.__dict__, "cutoff": float(cutoff), "dim": 1, "source": type})
+        )
+
     def append(self, spec: SensorSpec) -> int:
         """Add a ready SensorSpec (``dim`` filled in from its type); returns its index."""
         if spec.type != "unsupported":
             if spec.type not in SENSOR_DIMS:
                 raise ValueError(f"unknown sensor type {spec.type!r}")
-            if spec.body < 0 or (spec.ref is not None and spec.ref[0] < 0):
+            if spec.type in JOINT_TYPES:
+                pass  # on a joint or actuator (checked against the World's: check_joints)
+            elif spec.body < 0 or (spec.ref is not None and spec.ref[0] < 0):
                 raise ValueError(f"sensor {spec.name!r} ({spec.type}): body index must be >= 0")
             if spec.dim != SENSOR_DIMS[spec.type]:
                 spec = SensorSpec(**{**spec.__dict__, "dim": SENSOR_DIMS[spec.type]})
@@ -224,9 +282,25 @@ class SensorSet:
         """ValueError naming the first sensor on a body index out of range."""
         for i, s in enumerate(self._specs):
             bodies = [s.body] + ([s.ref[0]] if s.ref is not None else [])
-            if s.type != "unsupported" and any(not 0 <= b < n_bodies for b in bodies):
+            if s.type == "unsupported" or s.type in JOINT_TYPES:
+                continue
+            if any(not 0 <= b < n_bodies for b in bodies):
                 raise ValueError(
                     f"sensor {s.name or i!r} ({s.type}): body {bodies} out of range [0, {n_bodies})"
+                )
+
+    def check_joints(self, joint_names: list[str], n_actuators: int) -> None:
+        """ValueError naming the first joint sensor whose joint or actuator is not there."""
+        for i, s in enumerate(self._specs):
+            if s.type in ("jointpos", "jointvel") and s.joint not in joint_names:
+                raise ValueError(
+                    f"sensor {s.name or i!r} ({s.type}): no joint named {s.joint!r} "
+                    f"(joints: {joint_names})"
+                )
+            if s.type == "actuatorfrc" and not 0 <= s.actuator < n_actuators:
+                raise ValueError(
+                    f"sensor {s.name or i!r} (actuatorfrc): actuator {s.actuator} out of "
+                    f"range [0, {n_actuators})"
                 )
 
     def __len__(self) -> int:

@@ -44,6 +44,8 @@ _KINDS: dict[str, type] = {
     "eps_v": float,
     "friction_iterations": int,
     "contact_damping": float,
+    "restitution": (float, type(None)),
+    "restitution_threshold": float,
     "kinematic_drive_stiffness": float,
 }
 _KIND_NAMES = {
@@ -52,6 +54,7 @@ _KIND_NAMES = {
     int: "an integer",
     float: "a real number",
     tuple: "a sequence of 3 real numbers",
+    (float, type(None)): "a real number or None",
 }
 
 
@@ -114,14 +117,23 @@ class SceneSettings:
             m the pair's (reduced) mass shared among its pairs: ζ = 1 is critically damped,
             MuJoCo's default ``solref`` damping ratio. It is a lagged convex term of the
             incremental potential (it can only remove energy; barrier and CCD are untouched).
-            Restitution: the coefficient e it gives is at most what the integrator already
-            gives with ζ = 0, because IPC's barrier is much stiffer than the step resolves
-            and the implicit step itself dissipates most of an impact (measured on a box and
-            a sphere dropped 5 cm, rebound above d̂: e ≤ 0.05 with BDF1, e ≈ 0.2-0.3 with
-            BDF2, at dt 1e-3 and 1e-2), so e = 0.5 or 0.9 cannot be had; ζ = 1 takes it to 0
-            (the body stays within d̂ after landing), like MuJoCo's default contact. The
-            MJCF loader maps ``solref``'s damping ratio here. Dampers are lagged at the step
-            start: the step that reaches the surface is the barrier's alone.
+            Alone it can only lower the restitution the integrator gives undamped (a box or a
+            sphere dropped 5 cm: e ≤ 0.05 with BDF1, e ≈ 0.2-0.3 with BDF2); ζ = 1 takes it to
+            0, like MuJoCo's default contact (the MJCF loader maps ``solref``'s damping
+            ratio here). Dampers are lagged at the step start: the step that reaches the
+            surface is the barrier's alone. For a given e use ``restitution``.
+        restitution: coefficient of restitution e in [0, 1] of every contact pair (per pair
+            in ``Scene.contact_table``); None (default): none, the integrator's own. A pair
+            that comes within d̂ faster than ``restitution_threshold`` keeps its normal
+            energy (relative normal kinetic energy at the contact point, barrier energy and
+            gravity's work) at ½ m v_in² while it approaches and at e² of that once it
+            separates, by impulses along the normal after each step (Stronge's energetic
+            law): it leaves at e v_in, and the integrator's own loss inside the barrier is
+            given back. Velocities only change, positions never (no intersection);
+            docs/restitution.md says why and what it achieves.
+        restitution_threshold: approach speed (m/s) below which an impact is inelastic, left
+            to the integrator (as Box2D's and PhysX's bounce thresholds): resting and slowly
+            touching bodies keep BDF's damping and come to rest.
         eps_v: friction smoothing speed ε_v (m/s): "static" friction creeps at a fraction of
             this speed (lagged IPC friction).
         friction_iterations: IPC's friction iterations: after Newton converges, friction's
@@ -165,6 +177,8 @@ class SceneSettings:
     contact_stiffness: float = 0.0
     friction: float = 0.5
     contact_damping: float = 0.0
+    restitution: float | None = None
+    restitution_threshold: float = 0.2
     eps_v: float = 1e-3
     friction_iterations: int = 1
     kinematic_drive_stiffness: float = 1e4
@@ -217,6 +231,12 @@ class SceneSettings:
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
                 raise ValueError(f"{name} must be finite and >= 0, got {v!r}")
+        e = self.restitution
+        if e is not None and not (math.isfinite(e) and 0 <= e <= 1):
+            raise ValueError(f"restitution must be in [0, 1] or None, got {e!r}")
+        v = self.restitution_threshold
+        if not (math.isfinite(v) and v >= 0):
+            raise ValueError(f"restitution_threshold must be finite and >= 0, got {v!r}")
         for name in ("direct_max_dofs", "num_threads", "history_limit", "friction_iterations"):
             if int(getattr(self, name)) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)!r}")
@@ -231,8 +251,10 @@ class SceneSettings:
                 ok = isinstance(v, str)
             elif kind is int:
                 ok = isinstance(v, numbers.Integral) and not isinstance(v, (bool, np.bool_))
-            elif kind is float:
+            elif kind is float or (kind == (float, type(None)) and v is not None):
                 ok = isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
+            elif kind == (float, type(None)):
+                ok = True  # None
             else:  # a vector of real numbers (its length is checked with the values)
                 ok = isinstance(v, (tuple, list, np.ndarray)) and all(
                     isinstance(x, numbers.Real) and not isinstance(x, (bool, np.bool_))

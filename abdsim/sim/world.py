@@ -16,9 +16,10 @@ from abdsim.geometry import validation as check
 from abdsim.geometry.containment import nested_pairs
 from abdsim.sim import pose as pose_math
 from abdsim.sim.contact_forces import ContactForces, rest_centers_of_mass, world_centers
+from abdsim.sim.joint_sensor_readings import joint_sensor_values
 from abdsim.sim.scene import GROUND, BodyHandle, Scene
 from abdsim.sim.sensor_readings import BodyState, sensor_values
-from abdsim.sim.sensors import SensorSet, VelocityHistory
+from abdsim.sim.sensors import JOINT_TYPES, SensorSet, VelocityHistory
 
 SolverError = _core.SolverError
 
@@ -39,6 +40,8 @@ class StepDiagnostics:
         converged: always True for a returned step (a failed step raises SolverError).
         integrator_order: 1 for a BDF1 step (BDF2 takes one at its start, after
             ``set_state`` and where contact begins or ends), 2 for a BDF2 step.
+        restitution_impulses: impulses the restitution law applied after the step
+            (``SceneSettings.restitution``).
         step_translation: last Newton step, max |Δp| / dt (m/s).
         step_affine: last Newton step, max |ΔA| / dt (1/s).
         residual: max |∇Π| at the start of the last Newton iteration.
@@ -106,6 +109,7 @@ class StepDiagnostics:
     kinematic_lag: float = 0.0
     kinematic_lag_body: int = -1
     integrator_order: int = 1
+    restitution_impulses: int = 0
     substeps: int = 1
     joint_violation: float = 0.0
     joint_violation_angle: float = 0.0
@@ -147,6 +151,7 @@ class StepDiagnostics:
             kinematic_lag=d.kinematic_lag,
             kinematic_lag_body=d.kinematic_lag_body,
             integrator_order=d.integrator_order,
+            restitution_impulses=d.restitution_impulses,
             substeps=d.substeps,
             joint_violation=d.joint_violation,
             joint_violation_angle=d.joint_violation_angle,
@@ -347,6 +352,8 @@ class World:
         cs.mu = float(st.friction)
         cs.eps_v = float(st.eps_v)
         cs.damping = float(st.contact_damping)
+        cs.restitution = -1.0 if st.restitution is None else float(st.restitution)
+        cs.restitution_threshold = float(st.restitution_threshold)
         ground = scene.ground
         cs.ground = ground is not None
         cs.ground_height = float(ground.height) if ground is not None else 0.0
@@ -364,6 +371,7 @@ class World:
             enabled = np.ones((n, n), dtype=np.int32)
             mu = np.full((n, n), float(st.friction))
             zeta = np.full((n, n), float(st.contact_damping))
+            e = np.full((n, n), cs.restitution)
             if ground_mu is not None:
                 mu[ground_id, :] = mu[:, ground_id] = ground_mu
             if ground_zeta is not None:
@@ -377,7 +385,10 @@ class World:
                 damping = scene.contact_table.damping(a, b)
                 if damping is not None:
                     zeta[i, j] = zeta[j, i] = damping
-            cs.set_contact_table_matrices(enabled, mu, zeta)
+                restitution = scene.contact_table.restitution(a, b)
+                if restitution is not None:
+                    e[i, j] = e[j, i] = restitution
+            cs.set_contact_table_matrices(enabled, mu, zeta, e)
         return cs
 
     @staticmethod
@@ -852,6 +863,19 @@ class World:
             raise
         return i
 
+    def add_joint_sensor(self, type: str, target: str | int, **kwargs: Any) -> int:
+        """Add a ``jointpos``/``jointvel`` sensor on the joint named ``target`` or an
+        ``actuatorfrc`` sensor on actuator ``target`` (``SensorSet.add_joint_sensor``'s
+        arguments); ValueError if this World has no such joint or actuator."""
+        i = self._sensors.add_joint_sensor(type, target, **kwargs)
+        try:  # the new one only: the scene's may wait for joints it was not built with
+            new = SensorSet(self._sensors.specs[i:])
+            new.check_joints([j.name for j in self.joints], len(self._scene.actuators))
+        except ValueError:
+            self._sensors = SensorSet(self._sensors.specs[:-1])
+            raise
+        return i
+
     @property
     def sensor_adr(self) -> np.ndarray:
         """Index of each sensor's first value in ``sensordata`` (MuJoCo's ``sensor_adr``)."""
@@ -885,7 +909,20 @@ class World:
             state.rest_centers = self._rest_centers
             bodies = {s.body for s in specs if s.type in ("force", "torque")}
             state.mass_matrices = {b: np.asarray(self._core.mass_matrix(b)) for b in bodies}
-        return sensor_values(specs, state)
+        values = sensor_values(specs, state)
+        if types & JOINT_TYPES:
+            adr = self._sensors.sensor_adr
+            joint_values = joint_sensor_values(
+                specs,
+                self.joints,
+                self.joint_positions(),
+                self.joint_velocities(),
+                self._scene.actuators,
+                self.ctrl,
+            )
+            for i, v in joint_values.items():
+                values[adr[i]] = v
+        return values
 
     def add_term(self, term: _core.EnergyTerm) -> None:
         """Add a potential (contact, joints, a ``_core.PythonEnergyTerm`` subclass...) to Π.

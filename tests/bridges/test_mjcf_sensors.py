@@ -56,7 +56,8 @@ def difference(name, a, b):
 
 def test_layout_matches_mujoco_and_unsupported_sensors_are_named(loaded):
     """sensor_adr / sensor_dim / names are MuJoCo's; joint, actuator and subtree sensors
-    keep their slots as NaN and each is named in the notes."""
+    keep their slots as NaN in a scene without joints (build_scene) and each is named in the
+    notes (tests/bridges/test_mjcf_joint_sensors.py reads the joint ones)."""
     m = loaded.model
     world = abdsim.World(loaded.scene)
     np.testing.assert_array_equal(world.sensor_adr, m.sensor_adr)
@@ -67,7 +68,7 @@ def test_layout_matches_mujoco_and_unsupported_sensors_are_named(loaded):
     assert {n for n, v in r.items() if np.isnan(v).any()} == UNSUPPORTED
     for name in UNSUPPORTED:
         assert sum(f"sensor {name!r}" in note for note in loaded.notes) == 1
-    assert any("no joints" in n and "hinge_pos" in n for n in loaded.notes)
+    assert any("build_articulated_scene" in n and "hinge_pos" in n for n in loaded.notes)
 
 
 def test_every_sensor_matches_mujoco_at_the_same_state(loaded):

@@ -254,3 +254,21 @@ def test_joint_info_in_world_frame(data_dir):
     assert (slide.type, slide.parent, slide.child) == ("prismatic", 1, 2)
     np.testing.assert_allclose(slide.axis, data.oMi[2].rotation[:, 0], atol=1e-15)  # URDF x
     assert load_urdf(data_dir / "arm.urdf", floating_base=True).joints[0].type == "free"
+
+
+def test_robot_driver_without_pinocchio_data_matches_forward_kinematics(robot_urdf, monkeypatch):
+    """Large trees skip pinocchio.Data (cubic in the joint count); the one-pass kinematics
+    they use instead gives Pinocchio's poses and velocities (UR5, forced onto that path)."""
+    import abdsim.bridges.drivers as drivers
+
+    res = load_urdf(robot_urdf("ur_description", "ur5_robot.urdf"))
+    samples = np.array([random_q(res.model, seed=s) for s in range(2)])
+    with_data = RobotDriver(res, samples, times=[0.0, 1.0])
+    monkeypatch.setattr(drivers, "_DATA_MAX_NV", 0)
+    without = RobotDriver(res, samples, times=[0.0, 1.0])
+    assert without._data is None and with_data._data is not None
+    for t in (0.0, 0.37, 1.0):
+        T0, V0 = with_data.targets(t)
+        T1, V1 = without.targets(t)
+        np.testing.assert_allclose(T1, T0, atol=1e-14)
+        np.testing.assert_allclose(V1, V0, atol=1e-12)

@@ -45,6 +45,38 @@ def rng():
     return np.random.default_rng(20240601)
 
 
+class Drops:
+    """A box (0.2 x 0.16 x 0.1 m) or a sphere (r = 5 cm), 500 kg/m³, ABD-stiff (κ = 1e8),
+    dropped from rest onto the ground (damping and restitution tests)."""
+
+    @staticmethod
+    def geometry(shape: str):
+        import abdsim
+
+        if shape == "box":
+            sc = abdsim.geometry.box((0.2, 0.16, 0.1))
+        else:
+            sc = abdsim.geometry.sphere(0.05, subdivisions=2)
+        abdsim.AffineBodyConstitution("OrthoPotential").apply_to(sc, kappa=1e8, mass_density=500.0)
+        return sc
+
+    @staticmethod
+    def world(shape: str, drop: float, integrator: str, dt: float, **settings):
+        """The body with its lowest point `drop` above the ground: (world, mass, height of
+        the lowest point below the centre)."""
+        import abdsim
+
+        sc = Drops.geometry(shape)
+        half = float(-np.asarray(sc.positions)[:, 2].min())
+        T = np.eye(4)
+        T[2, 3] = half + drop
+        sc.transforms = T[None]
+        scene = abdsim.Scene(dt=dt, integrator=integrator, **settings)
+        scene.add(sc)
+        scene.add_ground()
+        return abdsim.World(scene), float(sc.meta["abd_mass"]), half
+
+
 class Scenes:
     """Small scenes of affine bodies for the contact-term tests."""
 

@@ -10,10 +10,16 @@ no surface crosses the ground. References: the barrier formula, the mechanical e
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import abdsim
+
+sys.path.insert(0, str(Path(__file__).parent))  # conftest's helpers (as test_contact_term)
+from conftest import Drops  # noqa: E402
 
 G = 9.81
 D_HAT = 1e-3
@@ -65,21 +71,8 @@ def test_damping_is_validated():
 
 
 def drop_world(shape: str, drop: float, integrator: str, dt: float, **settings):
-    """A box (0.2 x 0.16 x 0.1 m) or a sphere (r = 5 cm), 500 kg/m³, its lowest point `drop`
-    above the ground, at rest: (world, mass, height of the lowest point above the centre)."""
-    if shape == "box":
-        sc = abdsim.geometry.box((0.2, 0.16, 0.1))
-    else:
-        sc = abdsim.geometry.sphere(0.05, subdivisions=2)
-    abdsim.AffineBodyConstitution("OrthoPotential").apply_to(sc, kappa=1e8, mass_density=500.0)
-    half = float(-np.asarray(sc.positions)[:, 2].min())
-    T = np.eye(4)
-    T[2, 3] = half + drop
-    sc.transforms = T[None]
-    scene = abdsim.Scene(dt=dt, integrator=integrator, **settings)
-    scene.add(sc)
-    scene.add_ground()
-    return abdsim.World(scene), float(sc.meta["abd_mass"]), half
+    """(world, mass, half height) of a box or sphere dropped from `drop` (conftest.Drops)."""
+    return Drops.world(shape, drop, integrator, dt, **settings)
 
 
 def fall(world, mass: float, half: float, seconds: float):
@@ -143,7 +136,8 @@ def test_contact_table_damping_overrides_the_scene():
 @pytest.mark.parametrize("shape", ["box", "sphere"])
 @pytest.mark.parametrize("integrator,dt", CASES)
 def test_restitution_above_the_undamped_impact_is_out_of_reach(shape, integrator, dt):
-    """Why e = 0.5 and 0.9 are not offered: a dissipative term can only lower the rebound,
+    """Why e = 0.5 and 0.9 need ``restitution`` (test_restitution.py), not damping: a
+    dissipative term can only lower the rebound,
     and undamped (ζ = 0) the implicit step already takes most of an impact. Rebound above d̂
     over the 5 cm drop, measured: BDF1 ≤ 0.003 (e ≤ 0.05), BDF2 0.04-0.09 (e ≈ 0.2-0.3),
     all below e² = 0.25 for e = 0.5. Damping lowers it monotonically (BDF2: ζ = 0.03, 0.1,

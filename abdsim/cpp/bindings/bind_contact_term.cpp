@@ -119,13 +119,16 @@ Eigen::MatrixXd dense_hessian(const IpcContactTerm& t, const VecX& q) {
 
 void bind_settings(py::module_& m) {
   py::class_<ContactRule>(m, "ContactRule")
-      .def(py::init([](bool enabled, double mu, double damping) {
-             return ContactRule{enabled, mu, damping};
+      .def(py::init([](bool enabled, double mu, double damping, double restitution) {
+             return ContactRule{enabled, mu, damping, restitution};
            }),
-           py::arg("enabled") = true, py::arg("mu") = 0.5, py::arg("damping") = -1.0)
+           py::arg("enabled") = true, py::arg("mu") = 0.5, py::arg("damping") = -1.0,
+           py::arg("restitution") = -1.0)
       .def_readwrite("enabled", &ContactRule::enabled)
       .def_readwrite("mu", &ContactRule::mu)
-      .def_readwrite("damping", &ContactRule::damping, "normal damping ratio; < 0: default");
+      .def_readwrite("damping", &ContactRule::damping, "normal damping ratio; < 0: default")
+      .def_readwrite("restitution", &ContactRule::restitution,
+                     "coefficient of restitution; < 0: default");
 
   py::class_<ContactSettings> settings(m, "ContactSettings", "Settings of the IPC contact term.");
   const char* type = "ContactSettings";
@@ -137,6 +140,10 @@ void bind_settings(py::module_& m) {
   def_finite(settings, type, "ccd_target", &ContactSettings::ccd_target);
   def_finite(settings, type, "damping", &ContactSettings::damping,
              "default normal damping ratio of every pair (0: none)");
+  def_finite(settings, type, "restitution", &ContactSettings::restitution,
+             "default coefficient of restitution of every pair (< 0: none)");
+  def_finite(settings, type, "restitution_threshold", &ContactSettings::restitution_threshold,
+             "approach speed (m/s) below which an impact is left to the integrator");
   settings.def(py::init<>())
       .def_readwrite("ground", &ContactSettings::ground)
       .def_readwrite("ground_contact_element", &ContactSettings::ground_contact_element)
@@ -157,11 +164,14 @@ void bind_settings(py::module_& m) {
       .def(
           "set_contact_table_matrices",
           [](ContactSettings& s, const Eigen::MatrixXi& enabled, const Eigen::MatrixXd& mu,
-             const std::optional<Eigen::MatrixXd>& damping) {
+             const std::optional<Eigen::MatrixXd>& damping,
+             const std::optional<Eigen::MatrixXd>& restitution) {
             s.contact_table = contact::contact_rule_from_matrices(
-                enabled, mu, s.mu, damping.value_or(Eigen::MatrixXd()));
+                enabled, mu, s.mu, damping.value_or(Eigen::MatrixXd()),
+                restitution.value_or(Eigen::MatrixXd()));
           },
-          py::arg("enabled"), py::arg("mu"), py::arg("damping") = py::none());
+          py::arg("enabled"), py::arg("mu"), py::arg("damping") = py::none(),
+          py::arg("restitution") = py::none());
 }
 
 }  // namespace

@@ -451,6 +451,7 @@ void bind_settings(py::module_& m) {
       .def_readonly("min_contact_distance", &StepDiagnostics::min_contact_distance)
       .def_readonly("contact_kappa", &StepDiagnostics::contact_kappa)
       .def_readonly("integrator_order", &StepDiagnostics::integrator_order)
+      .def_readonly("restitution_impulses", &StepDiagnostics::restitution_impulses)
       .def_readonly("driven_bodies", &StepDiagnostics::driven_bodies)
       .def_readonly("kinematic_lag", &StepDiagnostics::kinematic_lag)
       .def_readonly("kinematic_lag_body", &StepDiagnostics::kinematic_lag_body)

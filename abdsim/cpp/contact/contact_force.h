@@ -18,6 +18,7 @@ struct ContactForce {
   Vec3 normal = Vec3::Zero();    // unit, from the second side towards the first
   double normal_force = 0.0;     // barrier (+ damping) force on the first side along `normal` (N)
   Vec3 friction = Vec3::Zero();  // friction force on the first side (N); the second gets −it
+  double energy = 0.0;           // the pair's barrier energy (J) (damping/restitution.h)
 };
 
 // Per-body wrenches, one row [f, τ] per body.

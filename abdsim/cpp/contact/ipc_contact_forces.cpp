@@ -79,6 +79,7 @@ std::vector<ContactForce> IpcContactTerm::contact_forces(const VecX& q) const {
     c.bodies = s.bodies;
     set_point_and_normal(s.vertices, s.nv, g.w, set.x, settings_.ground_height, c);
     c.normal_force = first_side_force(e.grad, first_side_count(s.kind)).dot(c.normal);
+    c.energy = e.value;
     index.emplace(key_of(s.nv, s.vertices), out.size());
     out.push_back(c);
   }

@@ -25,6 +25,10 @@ const ContactSettings& validated(const ContactSettings& s) {
   if (!(s.mu >= 0.0)) throw std::invalid_argument("ContactSettings: mu must be >= 0");
   if (!(s.damping >= 0.0) || !std::isfinite(s.damping))
     throw std::invalid_argument("ContactSettings: damping must be finite and >= 0");
+  if (!std::isfinite(s.restitution) || s.restitution > 1.0)
+    throw std::invalid_argument("ContactSettings: restitution must be in [0, 1] (< 0: none)");
+  if (!(s.restitution_threshold >= 0.0) || !std::isfinite(s.restitution_threshold))
+    throw std::invalid_argument("ContactSettings: restitution_threshold must be finite and >= 0");
   if (!(s.ccd_target > 0.0 && s.ccd_target < 1.0))
     throw std::invalid_argument("ContactSettings: ccd_target must lie in (0, 1)");
   return s;
@@ -62,7 +66,7 @@ IpcContactTerm::IpcContactTerm(const SceneData& scene, const ContactSettings& se
     : settings_(validated(settings)),
       mesh_(ContactMesh::from_scene(scene)),
       table_(mesh_.num_bodies(), settings.body_contact_element, settings.ground_contact_element,
-             settings.mu, settings.contact_table, settings.damping),
+             settings.mu, settings.contact_table, settings.damping, settings.restitution),
       broad_phase_(mesh_, [this](int a, int b) { return bodies_may_collide(a, b); }),
       scripted_(size_t(mesh_.num_bodies()), 0),
       threads_(resolve_threads(0)),

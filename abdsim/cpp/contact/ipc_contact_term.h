@@ -50,6 +50,11 @@ struct ContactSettings {
   double mu = 0.5;       // default friction coefficient (0 disables friction)
   double eps_v = 1e-3;   // friction smoothing speed (m/s), used as ε_v h
   double damping = 0.0;  // default normal damping ratio ζ of every pair (0: none)
+  // Default coefficient of restitution e in [0, 1] of every pair (< 0: none, the integrator's
+  // own), and the approach speed (m/s) below which a pair's impact is left to the integrator
+  // (damping/restitution.h).
+  double restitution = -1.0;
+  double restitution_threshold = 0.2;
   bool ground = false;   // the half-space z >= ground_height is a fixed obstacle
   double ground_height = 0.0;
   int ground_contact_element = 0;
@@ -111,6 +116,12 @@ class IpcContactTerm : public EnergyTerm {
   // Throws std::invalid_argument naming the bodies if q has intersecting surfaces, primitives
   // closer than their thickness, or vertices at/below the ground (plus thickness).
   void check_initial(const VecX& q) const;
+
+  // Coefficient of restitution of bodies a and b (b = −1: the ground); < 0: none.
+  double restitution(int a, int b) const {
+    return b < 0 ? table_.ground(a).restitution : table_.bodies(a, b).restitution;
+  }
+  bool has_restitution() const { return table_.any_restitution(); }
 
   double barrier_value(const VecX& q) const;
   double friction_value(const VecX& q) const;

@@ -27,6 +27,8 @@ struct StepDiagnostics {
   // Order of the step's integrator: 1 (BDF1, also BDF2's first step, its first after
   // set_state and its first after contact began or ended), or 2.
   int integrator_order = 1;
+  // Impulses the restitution law applied after the step (contact/damping/restitution.h).
+  int restitution_impulses = 0;
   // Last Newton direction in velocity units: max_k |Δp_k| / h (m/s), max |ΔA_kl| / h (1/s).
   double step_translation = 0.0;
   double step_affine = 0.0;

@@ -128,6 +128,7 @@ void World::set_state(const VecX& q, const VecX& q_dot) {
     if (kinematic_[b]) kinematic_target_.segment<12>(12 * b) = q_.segment<12>(12 * b);
   }
   has_history_ = false;
+  restitution_.reset();
   fresh_state_ = true;
 }
 
@@ -238,6 +239,10 @@ const StepDiagnostics& World::step() {
   const double h = scene_.dt;
   StepDiagnostics d;
   d.step = step_count_;
+  if (contact_ && contact_->has_restitution()) {
+    step_q_t_ = q_;
+    step_q_dot_t_ = q_dot_;
+  }
   const std::string failure = try_step(d);
   if (failure.empty()) {
     commit_step();
@@ -245,6 +250,7 @@ const StepDiagnostics& World::step() {
   } else {
     advance_in_substeps(failure, d);
   }
+  apply_restitution(d);
   ++step_count_;
   time_ = time_base_ + static_cast<double>(step_count_ - step_base_) * h;
 

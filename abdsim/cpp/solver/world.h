@@ -34,6 +34,7 @@
 #include <memory>
 #include <vector>
 
+#include "contact/damping/restitution.h"
 #include "contact/ipc_contact_term.h"
 #include "mass/dyadic_mass.h"
 #include "solver/block_system.h"
@@ -114,6 +115,8 @@ class World {
   void predict_body(int b, double c, bool bdf2);
   void finish_body(int b, double c);
   void step_per_body(double c, bool bdf2, StepDiagnostics& d);
+  // world_restitution.cpp: the restitution law after a committed step (velocities only).
+  void apply_restitution(StepDiagnostics& d);
   // Per-body Newton on ½|x − q̃|²_M + c² Ψ (no terms) from x; fills r, min alphas per
   // iteration into `alphas` (if given).
   struct BodyNewton {
@@ -182,6 +185,8 @@ class World {
 
   VecX q_, q_dot_;            // current state
   VecX q_prev_, q_dot_prev_;  // previous state (BDF2)
+  contact::RestitutionLaw restitution_;
+  VecX step_q_t_, step_q_dot_t_;  // the state at the start of the step (restitution law)
   bool has_history_ = false;
   // The state was given (construction, set_state), not reached by a step: terms may choose
   // what they lag for it afresh (StepContext::fresh_state).
