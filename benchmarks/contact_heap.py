@@ -257,7 +257,7 @@ def print_profile(a: dict, steps: int) -> None:
     share = 100 * p["substep_time"] / max(p["step"], 1e-12)
     print(
         f"      outside the timers {1e3 * (p['step'] - timed) / steps:.1f} ms/step; steps redone "
-        f"in substeps {p['substep_steps']} ({share:.0f}% of the wall time)"
+        f"in substeps {p['substep_steps']:.0f} ({share:.0f}% of the wall time)"
     )
     print(f"      per Newton iteration {1e3 * p['step'] / iters:.2f} ms")
 
