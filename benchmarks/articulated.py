@@ -10,9 +10,16 @@ MuJoCo ``mj_step(nstep=n)``, implicitfast: Euler is unstable on the Panda's 15 g
 with kv = 20), built from one Pinocchio model (abdsim:
 ``abdsim.bridges.pinocchio_articulation``; MuJoCo: nested bodies with the same inertials and
 joints, no geometry). Reports steps/s of each, their ratio and abdsim's largest joint violation
-(a second, step-by-step run).
+(a second, step-by-step run). On a shared machine wall-clock rates swing with the load: the
+ratio of CPU times (process time of each run) is printed too.
 
-Usage: python benchmarks/articulated.py [--steps 1000]
+--profile adds where abdsim's step goes (StepDiagnostics of the timed run, per step): Newton
+iterations, assembly (bodies, shape energy and joint forces), the linear solve (the KKT system:
+block-tree elimination for articulations), step bounds, line search, the terms' update, the
+rest of the C++ step (prediction, start iterate, constraint projection, diagnostics) and the
+Python overhead of ``World.step`` around it.
+
+Usage: python benchmarks/articulated.py [--steps 1000] [--profile]
 """
 
 from __future__ import annotations
@@ -90,38 +97,75 @@ def mjcf(model: pin.Model, actuated: bool) -> str:
     return f"<mujoco>{option}<worldbody>{world}</worldbody>{act}</mujoco>"
 
 
-def run_abdsim(model: pin.Model, q0: np.ndarray, actuated: bool, steps: int):
+# StepDiagnostics.profile timers printed by --profile, in order.
+TIMERS = (
+    ("assembly", "assembly"),
+    ("linear_solve", "linear solve (KKT)"),
+    ("ccd", "step bounds"),
+    ("line_search", "line search"),
+    ("contact_update", "terms' update"),
+)
+
+
+def run_abdsim(model: pin.Model, q0: np.ndarray, actuated: bool, steps: int) -> dict:
     scene = abdsim.Scene(dt=DT, integrator="bdf2", contact=False)
+    scene.settings.history_limit = steps
     articulation_from_pinocchio(model, q0, scene)
     for j in scene.joints:
         if actuated:
             scene.add_actuator(j, "position", kp=KP, kv=KV)  # target 0: the loaded pose
     world = abdsim.World(scene)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     world.step(steps)
-    rate = steps / (time.perf_counter() - t0)
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    history = world.history
     world = abdsim.World(scene)
     worst = 0.0
     for _ in range(steps):
         d = world.step()
         worst = max(worst, d.joint_violation)
-    return rate, worst, np.abs(world.joint_positions()).max()
+    return {
+        "rate": steps / wall,
+        "cpu": cpu,
+        "wall": wall,
+        "violation": worst,
+        "moved": np.abs(world.joint_positions()).max(),
+        "history": history,
+    }
 
 
-def run_mujoco(model: pin.Model, q0: np.ndarray, actuated: bool, steps: int) -> float:
+def run_mujoco(model: pin.Model, q0: np.ndarray, actuated: bool, steps: int) -> dict:
     m = mujoco.MjModel.from_xml_string(mjcf(model, actuated))
     d = mujoco.MjData(m)
     d.qpos[:] = q0
     if actuated:
         d.ctrl[:] = q0
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     mujoco.mj_step(m, d, nstep=steps)
-    return steps / (time.perf_counter() - t0)
+    return {"rate": steps / (time.perf_counter() - t0), "cpu": time.process_time() - c0}
+
+
+def print_profile(run: dict) -> None:
+    """Per-step means of the timed run's diagnostics (microseconds of wall-clock time)."""
+    history = run["history"]
+    n = max(len(history), 1)
+    step = sum(d.wall_time for d in history)
+    iterations = sum(d.newton_iterations for d in history)
+    solver = history[-1].linear_solver
+    print(f"    Newton iterations per step {iterations / n:.2f}, linear solver {solver}")
+    timed = 0.0
+    for key, label in TIMERS:
+        seconds = sum(d.profile[key] for d in history)
+        timed += seconds
+        print(f"    {label:34s} {1e6 * seconds / n:8.1f} us")
+    print(f"    {'rest of the C++ step':34s} {1e6 * (step - timed) / n:8.1f} us")
+    print(f"    {'Python around World.step':34s} {1e6 * (run['wall'] - step) / n:8.1f} us")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=1000)
+    parser.add_argument("--profile", action="store_true", help="where abdsim's step goes")
     args = parser.parse_args()
     panda = panda_model()
     chain = chain_model()
@@ -136,15 +180,18 @@ def main() -> None:
     ]
     print(
         f"{'case':30s} {'abdsim steps/s':>15s} {'MuJoCo steps/s':>15s} {'ratio':>7s} "
-        f"{'max violation (m)':>18s} {'max |q - q0|':>13s}"
+        f"{'CPU ratio':>9s} {'max violation (m)':>18s} {'max |q - q0|':>13s}"
     )
     for name, model, q0, actuated in cases:
-        ours, violation, moved = run_abdsim(model, q0, actuated, args.steps)
+        ours = run_abdsim(model, q0, actuated, args.steps)
         theirs = run_mujoco(model, q0, actuated, args.steps)
         print(
-            f"{name:30s} {ours:15.0f} {theirs:15.0f} {ours / theirs:7.3f} {violation:18.2e} "
-            f"{moved:13.3f}"
+            f"{name:30s} {ours['rate']:15.0f} {theirs['rate']:15.0f} "
+            f"{ours['rate'] / theirs['rate']:7.3f} {theirs['cpu'] / ours['cpu']:9.3f} "
+            f"{ours['violation']:18.2e} {ours['moved']:13.3f}"
         )
+        if args.profile:
+            print_profile(ours)
 
 
 if __name__ == "__main__":

@@ -8,12 +8,19 @@ import sys
 from pathlib import Path
 
 
-def _factor(text: str) -> tuple[str, float]:
-    name, _, value = text.partition("=")
-    try:
-        return name, float(value)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected BODY=FACTOR, got {text!r}") from None
+def _pairs(flag: str):
+    """An argparse type reading NAME=NUMBER."""
+
+    def parse(text: str) -> tuple[str, float]:
+        name, _, value = text.partition("=")
+        try:
+            return name, float(value)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{flag}: expected NAME=NUMBER, got {text!r}"
+            ) from None
+
+    return parse
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -36,11 +43,40 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.add_argument(
         "--perturb-inertia",
-        type=_factor,
+        type=_pairs("--perturb-inertia"),
         action="append",
         metavar="BODY=FACTOR",
         help="scale a body's inertia in abdsim only (to see the harness fail)",
     )
+    robot = p.add_argument_group("URDF robots")
+    robot.add_argument(
+        "--floating",
+        action="store_true",
+        help="floating base: drop the robot 5 cm onto the ground under position actuators "
+        "holding its stance, against MuJoCo (use --dt 2e-3 --duration 1)",
+    )
+    robot.add_argument(
+        "--self-contact",
+        action="store_true",
+        help="the dropped robot's links collide with each other in abdsim (MuJoCo's do not)",
+    )
+    robot.add_argument(
+        "--friction", type=float, help="foot–ground friction of the dropped robot (1.0)"
+    )
+    robot.add_argument("--kp", type=float, help="position gain of the dropped robot's joints")
+    robot.add_argument("--kv", type=float, help="velocity gain of the dropped robot's joints")
+    for flag, meta, what in (
+        ("--perturb-mass", "LINK=FACTOR", "scale a link's mass and inertia"),
+        ("--perturb-anchor", "JOINT=METRES", "move a joint's anchor across its axis"),
+        ("--perturb-axis", "JOINT=RADIANS", "tilt a joint's axis"),
+    ):
+        robot.add_argument(
+            flag,
+            type=_pairs(flag),
+            action="append",
+            metavar=meta,
+            help=f"{what} in abdsim only (to see the robot checks fail)",
+        )
     p.add_argument(
         "--sweep",
         action="store_true",
@@ -59,6 +95,21 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     )
     p.set_defaults(func=run)
     return p
+
+
+def _robot_options(args: argparse.Namespace) -> dict:
+    """The URDF-robot options given on the command line (``validate(robot=...)``)."""
+    options: dict = {}
+    for key in ("perturb_mass", "perturb_anchor", "perturb_axis"):
+        if getattr(args, key):
+            options[key] = dict(getattr(args, key))
+    for key in ("kp", "kv", "friction", "self_contact"):
+        if getattr(args, key) not in (None, False):
+            if not args.floating:
+                flag = "--" + key.replace("_", "-")
+                raise ValueError(f"{flag} applies to the dropped robot: add --floating")
+            options[key] = getattr(args, key)
+    return options
 
 
 def run(args: argparse.Namespace) -> int:
@@ -101,6 +152,8 @@ def run(args: argparse.Namespace) -> int:
         progress=not args.quiet,
         mcap=not args.no_mcap,
         perturb_inertia=dict(args.perturb_inertia or []),
+        floating=args.floating,
+        robot=_robot_options(args),
     )
     n_fail = len(res.failed)
     print(

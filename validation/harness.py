@@ -64,6 +64,8 @@ def validate(
     progress: bool = True,
     mcap: bool = True,
     perturb_inertia: dict[str, float] | None = None,
+    floating: bool = False,
+    robot: dict | None = None,
 ) -> ValidationResult:
     """Run ``scene`` (MJCF or URDF; default: the bundled tossed-bodies scene) and compare.
 
@@ -79,6 +81,12 @@ def validate(
         mcap: also write run.mcap with both simulators' poses.
         perturb_inertia: {body name: factor} scales those bodies' inertia in abdsim only —
             a deliberately wrong model, to see the harness catch it.
+        floating: a URDF robot gets a floating base and is dropped on the ground
+            (``robot_drop``) instead of released from a fixed base (``robot_validation``).
+        robot: options of a URDF robot's run: ``q`` (Pinocchio configuration), ``kappa``,
+            wrong models ``perturb_mass`` {link: factor}, ``perturb_anchor`` {joint: m},
+            ``perturb_axis`` {joint: rad}, ``settings`` (abdsim scene settings); dropped
+            robots also ``kp``, ``kv``, ``drop_height``, ``friction`` and ``self_contact``.
 
     Raises:
         ValueError: unknown file type, a model MuJoCo or Pinocchio rejects, a scene with
@@ -104,12 +112,27 @@ def validate(
     out_dir.mkdir(parents=True, exist_ok=True)
 
     if kind == "urdf":
-        return _validate_urdf_inertias(path, out_dir, tol)
-    from abdsim.validation.joint_validation import has_joints_only, validate_joints
+        return _validate_urdf_robot(
+            path, duration, dt, out_dir, tol, integrator, sample_dt, floating, robot or {}
+        )
+    if floating:
+        raise ValueError(f"{path}: --floating applies to URDF robots (an MJCF file has its own)")
+    from abdsim.validation.joint_validation import (
+        floating_articulation,
+        has_joints_only,
+        validate_joints,
+    )
     from abdsim.validation.mujoco_reference import load_model
 
-    if has_joints_only(load_model(path)):  # an articulation: joint trajectories
+    model = load_model(path)
+    if has_joints_only(model):  # an articulation: joint trajectories
         return validate_joints(path, duration, dt, out_dir, tol, integrator, sample_dt)
+    limb = floating_articulation(model)
+    if limb is not None:  # its free-body comparison would hold the limbs as puppets
+        raise ValueError(
+            f"{path}: a floating robot (joint {limb!r} hangs below a free body) is not "
+            "compared from MJCF yet; validate its URDF with --floating"
+        )
 
     t_start = time.perf_counter()
     setup = build_abdsim(
@@ -249,11 +272,52 @@ def validate(
     )
 
 
-def _validate_urdf_inertias(path: Path, out_dir: Path, tol: Tolerances) -> ValidationResult:
+def _validate_urdf_robot(
+    path: Path,
+    duration: float,
+    dt: float,
+    out_dir: Path,
+    tol: Tolerances,
+    integrator: str,
+    sample_dt: float,
+    floating: bool,
+    options: dict,
+) -> ValidationResult:
+    """A URDF robot: its dynamics (fixed base: joint trajectories; floating: a drop) and the
+    mass properties of every link against Pinocchio and MuJoCo; a robot without moving
+    joints gets the mass properties only."""
+    import pinocchio as pin
+
+    from abdsim.validation.robot_drop import validate_drop
+    from abdsim.validation.robot_validation import validate_robot, write_robot_report
+
+    if floating:
+        return validate_drop(path, duration, dt, out_dir, tol, integrator, sample_dt, **options)
+    try:
+        moving = pin.buildModelFromUrdf(str(path)).nv > 0
+    except (RuntimeError, ValueError) as err:
+        raise ValueError(f"Pinocchio could not load URDF {path}: {err}") from err
+    if not moving:
+        return _validate_urdf_inertias(path, out_dir, tol)
+    res = validate_robot(path, duration, dt, out_dir, tol, integrator, sample_dt, **options)
+    inertia = _validate_urdf_inertias(path, out_dir / "inertia", tol, options.get("perturb_mass"))
+    res.checks[:0] = inertia.checks
+    res.metrics["inertia"] = inertia.metrics["inertia"]
+    res.metrics["checks"] = [c.as_dict() for c in res.checks]
+    res.metrics["passed"] = res.passed = all(c.passed for c in res.checks)
+    res.files["metrics"] = write_metrics(out_dir / "metrics.json", res.metrics)
+    res.files["report"] = write_robot_report(res.report, res.metrics, res.checks)
+    return res
+
+
+def _validate_urdf_inertias(
+    path: Path, out_dir: Path, tol: Tolerances, perturb_mass: dict[str, float] | None = None
+) -> ValidationResult:
     """A URDF robot: mass properties against Pinocchio and MuJoCo (see urdf_check)."""
     from abdsim.validation.urdf_check import urdf_inertia_comparisons
 
-    comparisons, notes = urdf_inertia_comparisons(path, out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    comparisons, notes = urdf_inertia_comparisons(path, out_dir, perturb_mass)
     checks: list[Check] = []
     rows: list[dict] = []
     for reference, names, abd, ref in comparisons:

@@ -1,11 +1,13 @@
 """``abdsim validate`` on a jointed MJCF scene (hinges, slides, balls; no free body): the
 articulation in abdsim (exact joints, ``abdsim.bridges.build_articulated_scene``) against
-MuJoCo RK4 on the same file from the same keyframe, joint by joint, and abdsim's joint
-violation at every step.
+MuJoCo RK4 on the same file from the same keyframe, joint by joint (positions and
+velocities), and abdsim's joint violation at every step.
 
 abdsim's joint coordinates are relative to the loaded configuration; MuJoCo's are absolute,
 so a hinge or slide compares ``qpos0 + world.joint_positions()`` with ``data.qpos`` and a
-ball the angle between ``q_load ⊗ q_abdsim`` and MuJoCo's quaternion.
+ball the angle between ``q_load ⊗ q_abdsim`` and MuJoCo's quaternion. Velocities are in the
+same convention on both sides (a ball's: the relative angular velocity in the child's frame),
+compared as the norm of their difference.
 """
 
 from __future__ import annotations
@@ -28,6 +30,21 @@ def has_joints_only(model) -> bool:
 
     types = set(int(t) for t in model.jnt_type)
     return bool(types) and int(mujoco.mjtJoint.mjJNT_FREE) not in types
+
+
+def floating_articulation(model) -> str | None:
+    """The first joint that hangs below a free body (a floating robot's limb), or None."""
+    import mujoco
+
+    free = int(mujoco.mjtJoint.mjJNT_FREE)
+    for j in range(model.njnt):
+        if int(model.jnt_type[j]) == free:
+            continue
+        root = int(model.body_rootid[model.jnt_bodyid[j]])
+        k = int(model.body_jntadr[root])
+        if k >= 0 and int(model.jnt_type[k]) == free:
+            return mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j) or f"joint {j}"
+    return None
 
 
 def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -57,6 +74,16 @@ def _coordinates(joints, adr, q_abd, q_load, qpos) -> tuple[np.ndarray, np.ndarr
             theirs.append(qpos[a])
         k += j.nq
     return np.array(ours), np.array(theirs)
+
+
+def _velocity_errors(joints, dof, v_abd, qvel) -> np.ndarray:
+    """|abdsim − MuJoCo| of each joint's velocity (a ball's: the norm over its 3 dofs)."""
+    out, k = [], 0
+    for j, a in zip(joints, dof, strict=True):
+        n = 3 if j.kind == "ball" else 1
+        out.append(float(np.linalg.norm(v_abd[k : k + n] - qvel[a : a + n])))
+        k += n
+    return np.array(out)
 
 
 def validate_joints(
@@ -92,6 +119,7 @@ def validate_joints(
     mujoco.mj_forward(model, data)
     joints = scene.joints
     adr = [int(model.jnt_qposadr[model.joint(j.name).id]) for j in joints]
+    dof = [int(model.jnt_dofadr[model.joint(j.name).id]) for j in joints]
     q_load = data.qpos.copy()
 
     n_steps = int(round(duration / dt))
@@ -100,6 +128,7 @@ def validate_joints(
     o, t = _coordinates(joints, adr, world.joint_positions(), q_load, data.qpos)
     ours.append(o)
     theirs.append(t)
+    v_errors = [_velocity_errors(joints, dof, world.joint_velocities(), data.qvel)]
     violation = np.zeros(2)
     wall = {"abdsim": 0.0, "mujoco": 0.0}
     for k in range(1, n_steps + 1):
@@ -115,12 +144,18 @@ def validate_joints(
             o, t = _coordinates(joints, adr, world.joint_positions(), q_load, data.qpos)
             ours.append(o)
             theirs.append(t)
+            v_errors.append(_velocity_errors(joints, dof, world.joint_velocities(), data.qvel))
     time_s, ours, theirs = np.array(times), np.array(ours), np.array(theirs)
     errors = np.abs(ours - theirs).max(axis=0)
+    v_error = np.max(v_errors, axis=0)
 
     checks = [
         Check("joint position vs MuJoCo RK4", j.name, float(e), tol.joint_position)
         for j, e in zip(joints, errors, strict=True)
+    ]
+    checks += [
+        Check("joint velocity vs MuJoCo RK4", j.name, float(e), tol.joint_velocity)
+        for j, e in zip(joints, v_error, strict=True)
     ]
     checks.append(Check("joint violation (m)", "all", float(violation[0]), tol.joint_violation))
     checks.append(Check("joint violation (rad)", "all", float(violation[1]), tol.joint_violation))
@@ -138,8 +173,8 @@ def validate_joints(
             contact=False,
         ),
         "joints": {
-            j.name: {"kind": j.kind, "max_error": float(e)}
-            for j, e in zip(joints, errors, strict=True)
+            j.name: {"kind": j.kind, "max_error": float(e), "max_velocity_error": float(ev)}
+            for j, e, ev in zip(joints, errors, v_error, strict=True)
         },
         "joint_violation": {"position": float(violation[0]), "angle": float(violation[1])},
         "free_flight": {},  # no free bodies (sweeps read this key)

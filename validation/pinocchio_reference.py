@@ -45,18 +45,26 @@ def initial_state_from_mujoco(
     return np.concatenate(q), np.concatenate(v)
 
 
-def _rk4_step(model: pin.Model, data: pin.Data, q: np.ndarray, v: np.ndarray, h: float):
-    """One Runge–Kutta–Munthe-Kaas step (order 4 on the Lie group).
+def rk4_step(
+    model: pin.Model,
+    data: pin.Data,
+    q: np.ndarray,
+    v: np.ndarray,
+    h: float,
+    damping: np.ndarray | None = None,
+):
+    """One Runge–Kutta–Munthe-Kaas step (order 4 on the Lie group) of ABA under zero
+    control; ``damping`` (nv,) adds the viscous joint torque −damping·v at every stage.
 
     Stages live at q ⊕ u; the body velocity v_i there is pulled back to the increment u by
     the inverse right Jacobian of the exponential (``pin.dIntegrate`` w.r.t. its tangent
     argument). Without that correction a naive Lie-group RK4 is only second order.
     """
-    tau = np.zeros(model.nv)
 
     def stage(u: np.ndarray, vv: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         qq = pin.integrate(model, q, u)
         jr = pin.dIntegrate(model, q, u, pin.ArgumentPosition.ARG1)
+        tau = np.zeros(model.nv) if damping is None else -damping * vv
         return np.linalg.solve(jr, vv), pin.aba(model, data, qq, vv, tau).copy()
 
     k1u, k1a = stage(np.zeros(model.nv), v)
@@ -137,7 +145,7 @@ def run_pinocchio_free_flight(
     wall = 0.0
     for k in range(1, n_steps + 1):
         t0 = time.perf_counter()
-        q, v = _rk4_step(model, data, q, v, dt)
+        q, v = rk4_step(model, data, q, v, dt)
         wall += time.perf_counter() - t0
         if k % every == 0:
             sample(k * dt)

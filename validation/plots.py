@@ -176,6 +176,44 @@ def plot_joints(time: np.ndarray, abd: np.ndarray, mj: np.ndarray, names: list[s
 
 
 @_locked
+def plot_robot_joints(
+    time: np.ndarray, series: dict[str, np.ndarray], names: list[str], ylabel: str, path: Path
+) -> Path:
+    """One panel per joint: each simulator's curve (abdsim solid, references dashed)."""
+    n = len(names)
+    cols = min(n, 3)
+    rows = -(-n // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.6 * cols, 2.4 * rows), squeeze=False)
+    for k, name in enumerate(names):
+        ax = axes[k // cols][k % cols]
+        for style, (label, values) in zip(("-", "--", ":"), series.items(), strict=False):
+            ax.plot(time, values[:, k], style, label=label)
+        ax.set_title(name, fontsize=9)
+        ax.grid(alpha=0.3)
+        ax.tick_params(labelsize=7)
+    for k in range(n, rows * cols):
+        axes[k // cols][k % cols].axis("off")
+    axes[0][0].legend(fontsize=7)
+    fig.supxlabel("time [s]", fontsize=9)
+    fig.supylabel(ylabel, fontsize=9)
+    return _save(fig, path)
+
+
+@_locked
+def plot_base_height(time: np.ndarray, series: dict[str, np.ndarray], path: Path) -> Path:
+    """A dropped robot's base height over time, one curve per simulator."""
+    fig, ax = plt.subplots(figsize=(7, 3.5))
+    for style, (label, values) in zip(("-", "--"), series.items(), strict=False):
+        ax.plot(time, values, style, label=label)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("base height [m]")
+    ax.set_title("Floating robot dropped on the ground")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    return _save(fig, path)
+
+
+@_locked
 def plot_snapshots(
     abd: Trajectory,
     mj: Trajectory,

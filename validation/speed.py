@@ -25,3 +25,19 @@ def describe(ratio: float, what: str = "") -> str:
     """``"abdsim runs at 0.70× MuJoCo's speed (> 1 is faster), stepping only"``."""
     suffix = f", {what}" if what else ""
     return f"abdsim runs at {ratio:.2f}× MuJoCo's speed (> 1 is faster){suffix}"
+
+
+def timing(wall: dict[str, float], steps: int, total: float) -> dict:
+    """metrics.json's ``timing`` of runs that step together: each simulator's wall time
+    inside its step and steps/s, abdsim's speed against MuJoCo's, the whole run's time."""
+    sims = {
+        name: {"steps": steps, "wall_time": w, "steps_per_s": steps / max(w, 1e-12)}
+        for name, w in wall.items()
+    }
+    return {
+        "simulators": sims,
+        "speed_vs_mujoco": speed_vs_mujoco(
+            sims["abdsim"]["steps_per_s"], sims["mujoco"]["steps_per_s"]
+        ),
+        "total_wall_time": total,
+    }

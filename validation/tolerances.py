@@ -44,6 +44,16 @@ class Tolerances:
     joint_position: float = 1e-3
     #: max joint violation in abdsim (anchor separation [m], axis misalignment [rad])
     joint_violation: float = 1e-6
+    #: max joint-velocity difference to MuJoCo RK4 / Pinocchio for robots [rad/s or m/s]
+    joint_velocity: float = 1e-2
+    #: max distance of a robot link's joint origin to Pinocchio's [m] (the joints issue's
+    #: 2 mm over 0.5 s for the UR5 and the Panda)
+    link_position: float = 2e-3
+    #: max difference of a dropped robot's base height to MuJoCo's at the end [m]
+    base_height: float = 1e-2
+    #: max difference of a dropped robot's final joint positions to MuJoCo's [rad or m] (the
+    #: feet settle under different friction laws: IPC's smoothed Coulomb, MuJoCo's soft cone)
+    stance: float = 5e-2
 
     @classmethod
     def names(cls) -> list[str]:
@@ -89,6 +99,8 @@ class Tolerances:
         "angular_momentum_drift",
         "energy_drift",
         "joint_position",
+        "joint_velocity",
+        "link_position",
     )
 
     def at_step(self, dt: float, integrator: str = "bdf2") -> Tolerances:

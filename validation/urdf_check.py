@@ -1,9 +1,9 @@
 """``abdsim validate robot.urdf``: mass properties of every loaded link group against
 Pinocchio's ``model.inertias`` and MuJoCo's compiled URDF.
 
-A URDF robot is fixed-base: in abdsim its links are kinematic bodies, so there is no free
-motion to compare; the check is that each body carries exactly the robot's inertials.
-MuJoCo does not resolve ``package://`` URIs and cannot read COLLADA visuals, so it gets a
+Part of every URDF robot's report (``robot_validation`` compares its motion); the whole report
+of a robot without moving joints. The check is that each body carries exactly the robot's
+inertials. MuJoCo does not resolve ``package://`` URIs and cannot read COLLADA visuals, so it gets a
 copy of the URDF with packages resolved and visual elements removed (they carry no mass).
 """
 
@@ -40,8 +40,11 @@ def mujoco_ready_urdf(urdf: Path, package_dirs: list[Path], out_dir: Path) -> Pa
     return path
 
 
-def urdf_inertia_comparisons(urdf: Path, out_dir: Path):
-    """([(reference, names, abdsim rigid bodies, reference rigid bodies)], notes)."""
+def urdf_inertia_comparisons(
+    urdf: Path, out_dir: Path, perturb_mass: dict[str, float] | None = None
+):
+    """([(reference, names, abdsim rigid bodies, reference rigid bodies)], notes);
+    ``perturb_mass`` {link: factor} scales links in abdsim only (a wrong model)."""
     import mujoco
 
     import abdsim
@@ -51,6 +54,10 @@ def urdf_inertia_comparisons(urdf: Path, out_dir: Path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         loaded = load_urdf(urdf)
+    if perturb_mass:
+        from abdsim.validation.robot_setup import perturb_masses
+
+        perturb_masses(loaded, perturb_mass)
     model = loaded.model
     joint_of_body = {b: j for j, b in loaded.source_map.items()}
     names, abd, pin_ref, bodies = [], [], [], []
@@ -70,8 +77,8 @@ def urdf_inertia_comparisons(urdf: Path, out_dir: Path):
         raise ValueError(f"{urdf}: no moving link with mass to compare")
     comparisons = [("Pinocchio", names, abd, pin_ref)]
     notes = [
-        "URDF robots are fixed-base: their links are kinematic bodies in abdsim, so only "
-        "mass properties are compared (no free motion to integrate)"
+        "mass properties of every moving link group are compared with Pinocchio's and "
+        "MuJoCo's (the fixed root's play no role)"
     ]
     try:
         mj_path = mujoco_ready_urdf(urdf, _package_dirs(urdf, None), out_dir)

@@ -55,6 +55,9 @@ class JointHandle:
     stiffness: float = 0.0
     ref: float = 0.0
     frictionloss: float = 0.0
+    #: whether contact acts between parent and child (False: they may touch or overlap at the
+    #: joint, as MuJoCo excludes parent-child contact)
+    collide: bool = False
 
     @property
     def nq(self) -> int:
@@ -207,6 +210,7 @@ def make_joint(
     ref: float,
     frictionloss: float,
     name: str | None,
+    collide: bool = False,
 ) -> JointHandle:
     """Checks one joint's own data (ValueError naming it) and returns its handle."""
     name = f"joint{index}" if name is None else str(name)
@@ -231,6 +235,8 @@ def make_joint(
     ref = float(ref)
     if not math.isfinite(ref):
         raise ValueError(f"{who}: ref must be finite, got {ref!r}")
+    if not isinstance(collide, (bool, np.bool_)):
+        raise ValueError(f"{who}: collide must be True or False, got {collide!r}")
     return JointHandle(
         index=index,
         name=name,
@@ -245,6 +251,7 @@ def make_joint(
         stiffness=_non_negative(who, "stiffness", stiffness),
         ref=ref,
         frictionloss=_non_negative(who, "frictionloss", frictionloss),
+        collide=bool(collide),
     )
 
 

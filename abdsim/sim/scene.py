@@ -333,6 +333,7 @@ class Scene:
         ref: float = 0.0,
         frictionloss: float = 0.0,
         name: str | None = None,
+        collide: bool = False,
     ) -> JointHandle:
         """Join ``child`` to ``parent`` (None: the world); the World holds it exactly.
 
@@ -350,6 +351,9 @@ class Scene:
                 friction loss (smoothed below 1e-3 rad/s or m/s). Joint physics act on
                 revolute and prismatic joints only.
             name: the joint's name (default ``joint<i>``).
+            collide: whether contact acts between parent and child. Off by default (as in
+                MuJoCo): joined bodies touch at the joint, and link meshes often overlap
+                there; contact with every other body and the ground is kept.
 
         Raises:
             ValueError naming the joint: unknown kind, zero axis, parent == child, a body
@@ -374,6 +378,7 @@ class Scene:
             ref,
             frictionloss,
             name,
+            collide,
         )
         check_tree(self._joints, joint)
         self._joints.append(joint)
@@ -418,6 +423,16 @@ class Scene:
         )
         self._actuators.append(handle)
         return handle
+
+    def contact_exclusions(self) -> list[tuple[int, int]]:
+        """Pairs of bodies (smaller index first) that never collide: those joined by a joint
+        with ``collide=False``."""
+        pairs = {
+            (min(j.parent, j.child), max(j.parent, j.child))
+            for j in self._joints
+            if not j.collide and j.parent >= 0
+        }
+        return sorted(pairs)
 
     def contact_elements(self) -> np.ndarray:
         """Contact element id of every body, (n_bodies,) int32."""

@@ -16,8 +16,9 @@ from abdsim.geometry import validation as check
 from abdsim.geometry.containment import nested_pairs
 from abdsim.sim import pose as pose_math
 from abdsim.sim.contact_forces import ContactForces, rest_centers_of_mass, world_centers
+from abdsim.sim.contact_rules import contact_rules
 from abdsim.sim.joint_sensor_readings import joint_sensor_values
-from abdsim.sim.scene import GROUND, BodyHandle, Scene
+from abdsim.sim.scene import BodyHandle, Scene
 from abdsim.sim.sensor_readings import BodyState, sensor_values
 from abdsim.sim.sensors import JOINT_TYPES, SensorSet, VelocityHistory
 
@@ -357,38 +358,11 @@ class World:
         ground = scene.ground
         cs.ground = ground is not None
         cs.ground_height = float(ground.height) if ground is not None else 0.0
-        elements = scene.contact_elements()
-        ids = set(elements.tolist())
-        for (a, b), _ in scene.contact_table.items():
-            ids.update(e for e in (a, b) if e != GROUND)
-        ground_id = max(ids, default=-1) + 1
-        cs.ground_contact_element = ground_id
-        cs.body_contact_element = elements.tolist()
-        ground_mu = None if ground is None else ground.friction
-        ground_zeta = None if ground is None else ground.damping
-        if len(scene.contact_table) or ground_mu is not None or ground_zeta is not None:
-            n = ground_id + 1
-            enabled = np.ones((n, n), dtype=np.int32)
-            mu = np.full((n, n), float(st.friction))
-            zeta = np.full((n, n), float(st.contact_damping))
-            e = np.full((n, n), cs.restitution)
-            if ground_mu is not None:
-                mu[ground_id, :] = mu[:, ground_id] = ground_mu
-            if ground_zeta is not None:
-                zeta[ground_id, :] = zeta[:, ground_id] = ground_zeta
-            for (a, b), (on, friction) in scene.contact_table.items():
-                i = ground_id if a == GROUND else a
-                j = ground_id if b == GROUND else b
-                enabled[i, j] = enabled[j, i] = int(on)
-                if friction is not None:
-                    mu[i, j] = mu[j, i] = friction
-                damping = scene.contact_table.damping(a, b)
-                if damping is not None:
-                    zeta[i, j] = zeta[j, i] = damping
-                restitution = scene.contact_table.restitution(a, b)
-                if restitution is not None:
-                    e[i, j] = e[j, i] = restitution
-            cs.set_contact_table_matrices(enabled, mu, zeta, e)
+        rules = contact_rules(scene)
+        cs.ground_contact_element = rules.ground_id
+        cs.body_contact_element = rules.elements.tolist()
+        if rules.enabled is not None:
+            cs.set_contact_table_matrices(rules.enabled, rules.mu, rules.zeta, rules.restitution)
         return cs
 
     @staticmethod
@@ -627,8 +601,12 @@ class World:
         scripted = self._scripted_bodies()
         elements = self._scene.contact_elements()
 
+        excluded = set(self._scene.contact_exclusions())
+
         def may_collide(a: int, b: int) -> bool:
             if scripted[a] and scripted[b]:
+                return False
+            if (min(a, b), max(a, b)) in excluded:
                 return False
             return self._scene.contact_table.get(int(elements[a]), int(elements[b]))[0]
 

@@ -17,6 +17,8 @@
 
 #include "bindings/bindings.h"
 #include "bindings/checked_property.h"
+#include "contact/ipc_contact_term.h"
+#include "solver/constrained_solve.h"
 #include "solver/energy_term.h"
 #include "solver/shape_energy_term.h"
 #include "solver/world.h"
@@ -555,6 +557,53 @@ void bind_world(py::module_& m) {
       .def_property_readonly("settings", &World::settings);
 }
 
+// The constrained Newton solve on its own (for tests against a dense reference): the
+// matrix from its 12x12 blocks, the rows as (body_a, body_b, ja, jb, value) (body_b −1: the
+// world). Returns the solution (n_bodies, 12) and the path taken ("tree" or "sparse").
+void bind_kkt(py::module_& m) {
+  using Row = std::tuple<int, int, Vec12, Vec12, double>;
+  m.def(
+      "solve_kkt",
+      [](const std::vector<Mat12>& diagonal, const HessianBlocks& couplings,
+         const std::vector<int>& fixed, const std::vector<Row>& rows, const MatX12& rhs,
+         bool allow_tree) {
+        const int n = static_cast<int>(diagonal.size());
+        if (static_cast<int>(fixed.size()) != n || rhs.rows() != n)
+          throw std::invalid_argument("solve_kkt: diagonal, fixed and rhs need one entry per body");
+        std::vector<std::uint8_t> fixed_flags(fixed.begin(), fixed.end());
+        BlockSystem system;
+        system.reset(n, fixed_flags);
+        for (int b = 0; b < n; ++b) system.diagonal(b) = fixed_flags[b] ? Mat12::Zero() : diagonal[b];
+        std::vector<BodyBlock> blocks;
+        for (const auto& [i, j, H] : couplings) {
+          if (i < 0 || i >= n || j < 0 || j >= n || i == j)
+            throw std::invalid_argument("solve_kkt: coupling between bodies out of range");
+          blocks.push_back({i, j, H});
+        }
+        system.add_blocks(blocks);
+        system.finalize();
+        std::vector<ConstraintRow> constraint_rows;
+        for (const auto& [a, b, ja, jb, value] : rows) {
+          if (a < 0 || a >= n || b < -1 || b >= n)
+            throw std::invalid_argument("solve_kkt: a row's body is out of range");
+          constraint_rows.push_back({a, b, ja, jb, value});
+        }
+        VecX x;
+        std::string path = "sparse";
+        TreeKkt tree;
+        const VecX b = as_stacked(rhs, n, "rhs");
+        if (allow_tree && tree.solve(system, constraint_rows, b, x)) {
+          path = "tree";
+        } else {
+          KktFactorisation kkt(false);
+          kkt.solve(system, constraint_rows, b, x);
+        }
+        return std::make_pair(MatX12(as_rows(x)), path);
+      },
+      py::arg("diagonal"), py::arg("couplings"), py::arg("fixed"), py::arg("rows"), py::arg("rhs"),
+      py::arg("allow_tree") = true);
+}
+
 }  // namespace
 
 void bind_solver(py::module_& m) {
@@ -563,6 +612,7 @@ void bind_solver(py::module_& m) {
   bind_terms(m);
   bind_settings(m);
   bind_world(m);
+  bind_kkt(m);
 }
 
 }  // namespace abd::bindings

@@ -152,7 +152,19 @@ class IpcContactTerm : public EnergyTerm {
   // Sets flags[b] = 1 for every body in a lagged friction or damping pair of this step.
   void mark_friction_bodies(std::vector<unsigned char>& flags) const;
   // Sets flags[b] = 1 for every body in an active pair of the last update() (within d̂).
-  void mark_active_bodies(std::vector<unsigned char>& flags) const;
+  void mark_active_bodies(std::vector<unsigned char>& flags) const override;
+
+  // The solver's generic hooks (solver/energy_term.h; ipc_contact_hooks.cpp): friction's
+  // tolerances (0.1 ε_v at the surface), its lagged bodies, adaptive κ balanced at the start
+  // iterate and doubled by update(), d̂ as the reach, no query after a checked clear move.
+  void limit_tolerances(VecX& tol_translation, VecX& tol_affine,
+                        const std::vector<double>& radius) const override;
+  void mark_lagged_bodies(std::vector<unsigned char>& flags) const override;
+  bool balances_stiffness() const override;
+  void balance_stiffness(const VecX& q, const VecX& grad_rest) override;
+  double energy_parameter() const override { return kappa_; }
+  double reach() const override { return settings_.d_hat; }
+  void update_clear(const VecX& q) override { set_no_active_pairs(q); }
 
   // Forces at q of the active pairs (barrier) and of this step's lagged friction pairs, one
   // record per pair with a non-zero force (ipc_contact_forces.cpp). At the state the solver

@@ -267,7 +267,8 @@ double JointForceTerm::max_step(const VecX& q, const VecX& dq) const {
   return alpha;
 }
 
-void JointForceTerm::limit_tolerances(VecX& tol_translation, VecX& tol_affine) const {
+void JointForceTerm::limit_tolerances(VecX& tol_translation, VecX& tol_affine,
+                                      const std::vector<double>& /*radius*/) const {
   const double tol = 0.1 * kFrictionSpeed;
   for (const Element& e : elements_) {
     if (physics_[e.joint].frictionloss == 0.0) continue;

@@ -58,7 +58,8 @@ class JointForceTerm : public EnergyTerm {
   void add_hessian(const VecX& q, double scale, std::vector<BodyBlock>& blocks) const override;
   double max_step(const VecX& q, const VecX& dq) const override;
   // Bodies of joints with friction loss converge to 0.1 ε (their friction turns over ε).
-  void limit_tolerances(VecX& tol_translation, VecX& tol_affine) const override;
+  void limit_tolerances(VecX& tol_translation, VecX& tol_affine,
+                        const std::vector<double>& radius) const override;
 
   bool splits_by_body() const override { return true; }
   void add_body_values(const VecX& q, const std::vector<unsigned char>& movable,

@@ -15,10 +15,18 @@ namespace abd {
 
 class BlockSystem {
  public:
+  // A coupling block between two free bodies: rows of `row`, columns of `col`.
+  struct OffDiagonal {
+    int row;
+    int col;
+    Mat12 H;
+  };
+
   // `fixed[b]` marks bodies whose dofs are prescribed: identity rows, zero right-hand side.
   void reset(int n_bodies, const std::vector<std::uint8_t>& fixed);
 
   Mat12& diagonal(int b) { return diag_[b]; }
+  const Mat12& diagonal(int b) const { return diag_[b]; }
   // Adds term blocks: diagonal ones to the body blocks, couplings between two free bodies
   // to the off-diagonal set (summed per (row, col)). Blocks touching a fixed body only
   // contribute their diagonal part.
@@ -27,6 +35,9 @@ class BlockSystem {
   // that every coupling comes with its transpose (throws SolverError otherwise).
   void finalize();
   bool coupled() const { return !offdiag_.empty(); }
+  // After finalize(): the couplings, each (i, j) with its (j, i), sorted by (row, col).
+  const std::vector<OffDiagonal>& couplings() const { return offdiag_; }
+  int num_bodies() const { return n_; }
   bool is_fixed(int b) const { return fixed_[b] != 0; }
   // The lower triangle of the matrix over the free bodies (what SimplicialLDLT reads);
   // index[b] = the position of body b among them (−1 for fixed bodies).
@@ -45,11 +56,6 @@ class BlockSystem {
                 int threads) const;
 
  private:
-  struct OffDiagonal {
-    int row;
-    int col;
-    Mat12 H;
-  };
   void multiply(const VecX& v, VecX& out, int threads) const;
   // Calls f(row, col, value) for every stored lower-triangle entry of the free bodies'
   // matrix, always in the same order for the same pattern.

@@ -17,6 +17,7 @@ namespace abd {
 // ~ε·|J H⁻¹ Jᵀ|).
 void KktFactorisation::solve(const BlockSystem& system, const std::vector<ConstraintRow>& rows,
                              const VecX& rhs, VecX& x) {
+  if (use_tree_ && tree_.solve(system, rows, rhs, x)) return;
   std::vector<int> index;
   const Eigen::SparseMatrix<double> H = system.lower_matrix(index);
   const int n_bodies = static_cast<int>(index.size());

@@ -10,6 +10,7 @@
 
 #include "solver/block_system.h"
 #include "solver/constraint.h"
+#include "solver/tree_kkt.h"
 
 namespace abd {
 
@@ -18,14 +19,19 @@ namespace abd {
 // ordering and symbolic analysis, which cost as much as the numeric factorisation.
 class KktFactorisation {
  public:
+  // tree = false: always the general sparse path (for tests).
+  explicit KktFactorisation(bool tree = true) : use_tree_(tree) {}
   // x over every body (zero on the bodies fixed in `system`). Columns of fixed bodies are
   // dropped from the rows (they are constants this solve); rows with no free column are
   // ignored. Throws SolverError when the system cannot be factorised or solved (redundant
-  // constraints, a loop).
+  // constraints, a loop). An articulation without loops (joints and couplings forming a
+  // forest) takes the exact block-tree elimination of tree_kkt.h.
   void solve(const BlockSystem& system, const std::vector<ConstraintRow>& rows,
              const VecX& rhs, VecX& x);
 
  private:
+  bool use_tree_ = true;
+  TreeKkt tree_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt_;
   std::vector<int> outer_, inner_;  // pattern of the analysed matrix
   bool analysed_ = false;

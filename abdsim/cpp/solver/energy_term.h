@@ -93,8 +93,25 @@ class EnergyTerm {
   // A term whose force turns over a small speed scale (smoothed dry friction) tightens the
   // per-body Newton tolerances (velocity units) of the bodies it acts on: a step tolerance
   // above that speed cannot tell sticking from sliding. Called once per step, after
-  // begin_step; the vectors are sized to the number of bodies.
-  virtual void limit_tolerances(VecX& /*tol_translation*/, VecX& /*tol_affine*/) const {}
+  // begin_step, and again after a refresh_lagged that changed the term; the vectors are
+  // sized to the number of bodies, `radius` is each body's largest distance of a vertex
+  // from its centre of mass (a speed ε at the surface is an affine rate ε / radius).
+  virtual void limit_tolerances(VecX& /*tol_translation*/, VecX& /*tol_affine*/,
+                                const std::vector<double>& /*radius*/) const {}
+  // Sets flags[b] = 1 for the bodies whose share of the energy refresh_lagged may change
+  // (they iterate again after a refresh that changed the term).
+  virtual void mark_lagged_bodies(std::vector<unsigned char>& /*flags*/) const {}
+
+  // ---- Optional: stiffness balanced at the start iterate (IPC's adaptive κ) -----------
+  // True when, this step, the term sets a stiffness against the rest of Π at the Newton
+  // start: the solver then calls balance_stiffness(q, grad_rest) with the gradient of
+  // everything else (zero on bodies the solve does not move), before Newton's first
+  // evaluation of Π.
+  virtual bool balances_stiffness() const { return false; }
+  virtual void balance_stiffness(const VecX& /*q*/, const VecX& /*grad_rest*/) {}
+  // A parameter of the term's energy that update() may change within a step (IPC's adaptive
+  // κ doubling): when it differs after an update, the solver evaluates Π again there.
+  virtual double energy_parameter() const { return 0.0; }
 
   // ---- Optional: splitting by body ---------------------------------------------------
   // A term made of elements that each involve one or two bodies (contact pairs, joints) can
@@ -119,6 +136,15 @@ class EnergyTerm {
                               const std::vector<unsigned char>& /*movable*/, VecX& /*bound*/,
                               std::vector<unsigned char>& /*near*/,
                               std::vector<BodyLink>& /*links*/) const {}
+  // How far from each other elements start to have energy (contact: d̂; 0: at contact or
+  // never): bodies whose free solution strays from the checked path by more than a quarter
+  // of it are checked again.
+  virtual double reach() const { return 0.0; }
+  // update(q) at a q that body_max_steps showed no element of the term reaches (the end of
+  // a checked move with nothing near): a term may skip its proximity query there.
+  virtual void update_clear(const VecX& q) { update(q); }
+  // Sets flags[b] = 1 for the bodies in an element with energy at the last update().
+  virtual void mark_active_bodies(std::vector<unsigned char>& /*flags*/) const {}
 };
 
 }  // namespace abd

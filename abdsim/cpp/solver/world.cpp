@@ -9,6 +9,7 @@
 #include <string>
 
 #include "common/affine.h"
+#include "contact/ipc_contact_term.h"
 #include "solver/body_math.h"
 #include "solver/parallel.h"
 #include "solver/world_detail.h"
@@ -130,6 +131,7 @@ void World::set_state(const VecX& q, const VecX& q_dot) {
   has_history_ = false;
   restitution_.reset();
   fresh_state_ = true;
+  warm_valid_.clear();  // the last solve's joint forces say nothing about this state
 }
 
 void World::set_time(double t) {

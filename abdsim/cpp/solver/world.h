@@ -34,8 +34,7 @@
 #include <memory>
 #include <vector>
 
-#include "contact/damping/restitution.h"
-#include "contact/ipc_contact_term.h"
+#include "contact/damping/restitution.h"  // the restitution law, held by value
 #include "mass/dyadic_mass.h"
 #include "solver/block_system.h"
 #include "solver/constrained_solve.h"
@@ -47,6 +46,11 @@
 #include "solver/shape_energy_term.h"
 
 namespace abd {
+
+// Contact is one EnergyTerm among others to the Newton loop; only building it and reporting
+// on it (world_contact.cpp) know its type.
+class IpcContactTerm;
+struct ContactSettings;
 
 class World {
  public:
@@ -151,7 +155,7 @@ class World {
   double step_bounds(const VecX& x, const VecX& dq, const std::vector<unsigned char>& mask,
                      std::vector<unsigned char>& near, std::vector<BodyLink>& links);
   void start_iterate(bool split, double c2, StepDiagnostics& d);
-  void initialize_contact_stiffness(double c2, const VecX& grad_bodies);
+  void balance_term_stiffness(double c2, const VecX& grad_bodies);
   // Π_b of one movable body without terms (kinetic or drive, plus c² shape); with g and H
   // (if non-null) its gradient and Hessian.
   double body_energy(int b, const Vec12& x, double c2, Vec12* g, Mat12* H) const;
@@ -163,7 +167,13 @@ class World {
   // world_constraints.cpp: the rows of every constraint at x, their use in the island start,
   // the projection of x_ onto them, and their violation.
   void constraint_rows(const VecX& x, std::vector<ConstraintRow>& rows) const;
+  void mark_jointed();
   void join_constrained_islands(std::vector<unsigned char>& near);
+  // Where a jointed body heads first: q̃ + c² a with a = (x − q̃)/c² of its last solve (its
+  // constraint and joint forces per unit mass, smooth from step to step), so that Newton
+  // starts within round-off of the solution's first-order part. False when it has none.
+  bool warm_guess(int b, double c2, Vec12& x) const;
+  void remember_warm_start(double c2);
   void project_constraints();
   void constraint_diagnostics(StepDiagnostics& d) const;
   // islands (union-find over bodies; roots are the smallest index)
@@ -182,6 +192,8 @@ class World {
   std::vector<unsigned char> jointed_;  // movable bodies under a constraint this step
   KktFactorisation kkt_newton_, kkt_projection_;  // patterns kept from solve to solve
   bool nonlinear_constraints_ = false;
+  VecX warm_accel_;                          // per jointed body: (x − q̃)/c² of its last solve
+  std::vector<unsigned char> warm_valid_;    // warm_accel_ holds a value for the body
 
   VecX q_, q_dot_;            // current state
   VecX q_prev_, q_dot_prev_;  // previous state (BDF2)

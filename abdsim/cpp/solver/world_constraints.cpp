@@ -22,22 +22,25 @@ void World::constraint_rows(const VecX& x, std::vector<ConstraintRow>& rows) con
   for (const auto& c : constraints_) c->linearize(x, rows);
 }
 
-// Constrained bodies neither take the free per-body solution nor start anywhere but where
-// they are (near), and bodies a constraint ties together are one island.
-void World::join_constrained_islands(std::vector<unsigned char>& near) {
+// The movable bodies under a constraint this step.
+void World::mark_jointed() {
   jointed_.assign(n_, 0);
   nonlinear_constraints_ = false;
-  if (constraints_.empty()) return;
-  std::vector<BodyLink> links;
   for (const auto& c : constraints_) {
     c->mark_bodies(jointed_);
-    c->body_links(links);
     nonlinear_constraints_ = nonlinear_constraints_ || !c->linear();
   }
-  for (int b = 0; b < n_; ++b) {
-    jointed_[b] = jointed_[b] && movable_[b];
+  for (int b = 0; b < n_; ++b) jointed_[b] = jointed_[b] && movable_[b];
+}
+
+// Constrained bodies never take the free per-body solution (near), and bodies a constraint
+// ties together are one island.
+void World::join_constrained_islands(std::vector<unsigned char>& near) {
+  if (constraints_.empty()) return;
+  std::vector<BodyLink> links;
+  for (const auto& c : constraints_) c->body_links(links);
+  for (int b = 0; b < n_; ++b)
     if (jointed_[b]) near[b] = 1;
-  }
   for (const BodyLink& l : links)
     if (movable_[l.a] && movable_[l.b]) merge_islands(l.a, l.b);
 }
@@ -70,6 +73,22 @@ void World::project_constraints() {
     kkt_projection_.solve(system_, rows, zero, dx);
     x_ += dx;
     constraint_rows(x_, rows);
+  }
+}
+
+bool World::warm_guess(int b, double c2, Vec12& x) const {
+  if (warm_valid_.size() != static_cast<std::size_t>(n_) || !warm_valid_[b]) return false;
+  x = q_tilde_.segment<12>(12 * b) + c2 * warm_accel_.segment<12>(12 * b);
+  return true;
+}
+
+void World::remember_warm_start(double c2) {
+  warm_valid_.assign(n_, 0);
+  warm_accel_.resize(12 * n_);
+  for (int b = 0; b < n_; ++b) {
+    if (!jointed_[b] || driven_[b]) continue;
+    warm_accel_.segment<12>(12 * b) = (x_.segment<12>(12 * b) - q_tilde_.segment<12>(12 * b)) / c2;
+    warm_valid_[b] = 1;
   }
 }
 

@@ -3,6 +3,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "contact/ipc_contact_term.h"
 #include "solver/world.h"
 
 namespace abd {

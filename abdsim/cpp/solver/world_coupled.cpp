@@ -6,7 +6,8 @@
 //  2. Terms that split by body report, for the move of every body to its prediction, which
 //     bodies come within their reach (links): linked bodies form islands. Bodies that nothing
 //     comes near run the per-body Newton solve of the fast path and keep that free solution:
-//     they are solved (start_iterate). Islands start from where they are (IPC).
+//     they are solved (start_iterate). Islands start from where they are (IPC); jointed
+//     islands from their warm guess when the move there is clear.
 //  3. Projected Newton on the remaining islands in lockstep: one assembled system and one
 //     contact query per iteration, but a CCD bound, Armijo line search and convergence test
 //     per island; a converged island stops moving; islands merge whenever a term links them
@@ -14,6 +15,9 @@
 //     (rotation_exact_step), and an island whose steps Armijo keeps cutting gets
 //     Levenberg–Marquardt damping.
 // All reductions run over bodies in index order, so results do not depend on threads.
+// Steps 1-2: world_start.cpp; Π and step bounds: world_energy.cpp; islands: world_islands.cpp;
+// constraints: world_constraints.cpp. Terms and constraints are seen only through
+// EnergyTerm and Constraint (nothing here knows contact or joints).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -33,10 +37,6 @@ namespace abd {
 using namespace world_detail;
 
 namespace {
-
-// Per-body loops whose bodies cost well under a microsecond each are not worth handing to the
-// worker pool below this many bodies.
-constexpr int kLightLoop = 1024;
 
 // The Newton step of one body with its rotation taken exactly. Newton's model linearises
 // rotations: A + ΔA with ΔA = W A (W skew) leaves the rotations by O(|W|²), a stretch the
@@ -69,278 +69,21 @@ Vec12 rotation_exact_step(const Vec12& x, const Vec12& dq, const Vec3& center) {
 
 }  // namespace
 
-int World::island(int b) {
-  while (parent_[b] != b) {
-    parent_[b] = parent_[parent_[b]];
-    b = parent_[b];
-  }
-  return b;
-}
-
-// Joins the islands of a and b (root: the smaller index). The merged island takes the smaller
-// step bound and must iterate again (it is neither converged nor frozen).
-bool World::merge_islands(int a, int b) {
-  a = island(a);
-  b = island(b);
-  if (a == b) return false;
-  if (b < a) std::swap(a, b);
-  parent_[b] = a;
-  alpha_[a] = std::min(alpha_[a], alpha_[b]);
-  converged_[a] = converged_[b] = 0;
-  frozen_[a] = frozen_[b] = 0;
-  pending_[a] = pending_[a] || pending_[b];
-  damping_[a] = std::max(damping_[a], damping_[b]);
-  return true;
-}
-
-// A driven body is the same body s times heavier *and* s times stiffer heading for its
-// target: s (½|x − target|²_M + c² Ψ). Scaling the shape energy with the drive keeps the
-// balance of a normal body (it does not get squashed against what stops it).
-double World::body_energy(int b, const Vec12& x, double c2, Vec12* g, Mat12* H) const {
-  const DyadicMass& dm = dyadic_[b];
-  const Vec12 r = x - q_tilde_.segment<12>(12 * b);
-  double e = 0.0;
-  Vec12 gb = Vec12::Zero();
-  Mat12 Hb = Mat12::Zero();
-  if (driven_[b] || !external_kinetic_[b]) {
-    const Vec12 Mr = mass_times(dm, r);
-    e = 0.5 * r.dot(Mr);
-    if (g) gb = Mr;
-    if (H) Hb = dm.matrix();
-  }
-  if (g || H) {
-    e += c2 * shape_.add_body_derivatives(b, x, c2, gb, Hb);
-  } else {
-    e += c2 * shape_.body_value(b, x);
-  }
-  if (driven_[b]) {
-    const double s = settings_.kinematic_drive_stiffness;
-    e *= s;
-    gb *= s;
-    Hb *= s;
-  }
-  if (g) *g = gb;
-  if (H) *H = Hb;
-  return e;
-}
-
-double World::body_energies(const VecX& x, double c2, VecX& E,
-                            std::vector<BodyLink>& links) const {
-  E.resize(n_);
-  parallel_for(
-      n_, threads_,
-      [&](int b) {
-        E[b] = movable_[b] ? body_energy(b, x.segment<12>(12 * b), c2, nullptr, nullptr) : 0.0;
-      },
-      kLightLoop);
-  double rest = 0.0;
-  for (const auto& t : terms_) {
-    if (t->splits_by_body()) {
-      VecX per_body = VecX::Zero(n_);
-      t->add_body_values(x, movable_, per_body, links);
-      E += c2 * per_body;
-    } else {
-      rest += c2 * t->value(x);
-    }
-  }
-  return rest;
-}
-
-// Π at x for the diagnostics; `parts`: kinetic, shape, drive (the driven bodies' whole
-// share of Π, in Π's units), then each term's value.
-double World::total_energy(const VecX& x, double c2, std::vector<double>* parts) const {
-  const double kinetic = deterministic_sum(n_, threads_, [&](int b) {
-    if (constrained_[b] || driven_[b] || external_kinetic_[b]) return 0.0;
-    return mass_quadratic(dyadic_[b], x.segment<12>(12 * b) - q_tilde_.segment<12>(12 * b));
-  });
-  const double drive = deterministic_sum(n_, threads_, [&](int b) {
-    return driven_[b] ? body_energy(b, x.segment<12>(12 * b), c2, nullptr, nullptr) : 0.0;
-  });
-  const double shape = deterministic_sum(n_, threads_, [&](int b) {
-    return driven_[b] ? 0.0 : shape_.body_value(b, x.segment<12>(12 * b));
-  });
-  double potential = shape;
-  if (parts) parts->assign({kinetic, shape, drive});
-  for (const auto& t : terms_) {
-    const double v = t->value(x);
-    potential += v;
-    if (parts) parts->push_back(v);
-  }
-  return kinetic + drive + c2 * potential;
-}
-
-// Step bounds of the move x → x + dq: per body (bound_, from terms that split by body, for
-// the bodies in `mask`) and the bound of the terms that do not split (returned); `near` and
-// `links` as in EnergyTerm::body_max_steps.
-double World::step_bounds(const VecX& x, const VecX& dq, const std::vector<unsigned char>& mask,
-                          std::vector<unsigned char>& near, std::vector<BodyLink>& links) {
-  bound_.setOnes(n_);
-  near.assign(n_, 0);
-  double global = 1.0;
-  for (const auto& t : terms_) {
-    if (t->splits_by_body())
-      t->body_max_steps(x, dq, mask, bound_, near, links);
-    else
-      global = std::min(global, t->max_step(x, dq));
-  }
-  return global;
-}
-
-// Kinematic bodies: at their targets (constrained) when the move is free of contact with
-// everything else at rest; otherwise driven (movable, pulled by the stiff spring).
-void World::place_kinematic_bodies(StepDiagnostics& d) {
-  VecX dq = VecX::Zero(12 * n_);
-  bool any = false;
-  for (int b = 0; b < n_; ++b) {
-    if (!kinematic_[b]) continue;
-    const Vec12 step = q_tilde_.segment<12>(12 * b) - q_.segment<12>(12 * b);
-    if (step.isZero(0.0)) continue;
-    dq.segment<12>(12 * b) = step;
-    any = true;
-  }
-  std::vector<unsigned char> moving(n_, 0), near;
-  std::vector<BodyLink> links;
-  while (any) {
-    for (int b = 0; b < n_; ++b) moving[b] = !dq.segment<12>(12 * b).isZero(0.0);
-    const double global = step_bounds(q_, dq, moving, near, links);
-    bool blocked = false;
-    for (int b = 0; b < n_; ++b) {
-      if (!moving[b] || std::min(bound_[b], global) >= 1.0) continue;
-      driven_[b] = 1;
-      constrained_[b] = 0;
-      dq.segment<12>(12 * b).setZero();
-      blocked = true;
-    }
-    if (!blocked) break;
-    any = !dq.isZero(0.0);
-  }
-  for (int b = 0; b < n_; ++b) {
-    if (constrained_[b] && kinematic_[b]) x_.segment<12>(12 * b) = q_tilde_.segment<12>(12 * b);
-    if (driven_[b]) {
-      x_free_.segment<12>(12 * b) = q_tilde_.segment<12>(12 * b);  // head for the target
-      ++d.driven_bodies;
-    }
-  }
-}
-
-// The Newton start. Every movable body is checked on its way to its prediction x̃ (the
-// target for driven bodies). Bodies that nothing comes near on that move (no term reaches
-// them within d̂) run the per-body Newton solve of the fast path and keep its free solution.
-// They are done (frozen) when no contact pair involves them there (the energy of the terms
-// is zero around it: it is the solution) and their path to it is clear: the checked one, when
-// the solution lies within d̂/4 of the prediction (so the path stays farther than d̂/2 from
-// everything), else their own move, checked again against everything else at its start.
-// Every island with something near starts where it is (IPC's start, always feasible): a
-// start clipped by CCD short of the free solution would sit deep in the barrier, where
-// Newton on a log barrier only creeps back out.
-void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
-  dq_.setZero(12 * n_);
-  for (int b = 0; b < n_; ++b)
-    if (movable_[b]) dq_.segment<12>(12 * b) = x_free_.segment<12>(12 * b) - x_.segment<12>(12 * b);
-  if (!split) {
-    int first = -1;
+// Terms that balance a stiffness against the rest of Π at the start iterate (IPC's adaptive
+// κ: the barrier's gradient against everything else's, clamped to [κ_min, κ_max]; within the
+// step, update() doubles it while a gap keeps closing below 1e-9 × the scene size. A κ that
+// only ever grew ended at κ_max after the first hard landing, and the stiffer barrier took
+// two to three times the Newton iterations from then on).
+void World::balance_term_stiffness(double c2, const VecX& grad_bodies) {
+  for (const auto& term : terms_) {
+    if (!term->balances_stiffness()) continue;
+    VecX grad_rest = grad_bodies;
+    for (const auto& t : terms_)
+      if (t != term) t->add_gradient(x_, c2, grad_rest);
     for (int b = 0; b < n_; ++b)
-      if (movable_[b]) {
-        if (first < 0)
-          first = b;
-        else
-          merge_islands(first, b);
-      }
+      if (!movable_[b]) grad_rest.segment<12>(12 * b).setZero();
+    term->balance_stiffness(x_, grad_rest);
   }
-  std::vector<unsigned char> near;
-  std::vector<BodyLink> links;
-  const double global = step_bounds(x_, dq_, movable_, near, links);
-  for (const BodyLink& l : links) merge_islands(l.a, l.b);
-  join_constrained_islands(near);
-  std::vector<unsigned char> stays(n_, 0);  // per island root: start where it is
-  for (int b = 0; b < n_; ++b)
-    if (movable_[b] && (near[b] || bound_[b] < 1.0 || global < 1.0)) stays[island(b)] = 1;
-
-  // Free solutions of the bodies of islands that nothing comes near.
-  const double slack = contact_ ? 0.25 * contact_->settings().d_hat : 0.0;
-  free_iterations_.assign(n_, 0);
-  std::vector<unsigned char> solved(n_, 0), strayed(n_, 0);
-  for (int b = 0; b < n_; ++b) solved[b] = split && movable_[b] && !driven_[b] && !stays[island(b)];
-  parallel_for(n_, threads_, [&](int b) {
-    if (!solved[b]) return;
-    Vec12 x = x_pred_.segment<12>(12 * b);
-    BodyNewton r;
-    newton_body(b, c2, x, r, nullptr);
-    free_iterations_[b] = r.iterations;
-    const Vec12 dev = x - x_pred_.segment<12>(12 * b);
-    const double moved = dev.head<3>().norm() + extent_[b] * affine_A(dev).norm();
-    if (r.status != kConverged) {
-      solved[b] = 0;
-    } else {
-      x_free_.segment<12>(12 * b) = x;
-      strayed[b] = moved > slack;
-    }
-  });
-  bool recheck = false;
-  for (int b = 0; b < n_; ++b) {
-    d.total_body_iterations += free_iterations_[b];
-    recheck = recheck || (solved[b] && strayed[b]);
-  }
-  if (recheck) {
-    // Some free solutions strayed from the checked path: check the solved bodies' own moves
-    // (everything else where it starts).
-    dq_.setZero(12 * n_);
-    for (int b = 0; b < n_; ++b)
-      if (solved[b]) dq_.segment<12>(12 * b) = x_free_.segment<12>(12 * b) - x_.segment<12>(12 * b);
-    std::vector<unsigned char> near2;
-    std::vector<BodyLink> links2;
-    step_bounds(x_, dq_, movable_, near2, links2);
-    for (int b = 0; b < n_; ++b)
-      if (solved[b] && (near2[b] || bound_[b] < 1.0)) solved[b] = 0;
-  }
-  for (int b = 0; b < n_; ++b)
-    if (split && movable_[b] && !driven_[b] && !stays[island(b)] && !solved[b])
-      stays[island(b)] = 1;  // its free solution failed, or its own move comes near
-  bool all_clear = split;  // every movable body solved alone: no contact pair anywhere
-  for (int b = 0; b < n_; ++b) {
-    if (!movable_[b]) continue;
-    const double bound = std::min(bound_[b], global);
-    d.min_term_max_step = std::min(d.min_term_max_step, bound);
-    if (!stays[island(b)]) x_.segment<12>(12 * b) = x_free_.segment<12>(12 * b);
-    all_clear = all_clear && solved[b];
-  }
-  project_constraints();  // constrained bodies start where they are: on c = 0
-  for (const auto& t : terms_) {
-    if (all_clear && t.get() == contact_.get())
-      contact_->set_no_active_pairs(x_);  // what update() would find, without the query
-    else
-      t->update(x_);
-  }
-  links.clear();
-  for (const auto& t : terms_) t->body_links(movable_, links);
-  for (const BodyLink& l : links) merge_islands(l.a, l.b);
-  if (!split) return;
-  // Islands with nothing near, at their free solution, with no contact there: solved.
-  std::vector<unsigned char> engaged(n_, 0);
-  if (contact_) contact_->mark_active_bodies(engaged);
-  std::vector<unsigned char> free_island(n_, 1);
-  for (int b = 0; b < n_; ++b)
-    if (movable_[b] && (near[b] || stays[island(b)] || !solved[b] || engaged[b]))
-      free_island[island(b)] = 0;
-  for (int b = 0; b < n_; ++b)
-    if (movable_[b] && free_island[island(b)]) frozen_[b] = converged_[b] = 1;
-}
-
-// IPC's adaptive κ: at the start of every step with active contact, balance the barrier's
-// gradient against the rest of Π's at the start iterate (clamped to [κ_min, κ_max]); within
-// the step, update() doubles it while a gap keeps closing below 1e-9 × the scene size. (A κ
-// that only ever grew ended at κ_max after the first hard landing, and the stiffer barrier
-// took two to three times the Newton iterations from then on.)
-void World::initialize_contact_stiffness(double c2, const VecX& grad_bodies) {
-  if (!contact_ || !contact_->adaptive_kappa()) return;
-  const ContactCounts c = contact_->counts();
-  if (c.point_triangle + c.edge_edge + c.point_ground == 0) return;
-  VecX grad_rest = grad_bodies;
-  for (const auto& t : terms_)
-    if (t.get() != contact_.get()) t->add_gradient(x_, c2, grad_rest);
-  for (int b = 0; b < n_; ++b)
-    if (!movable_[b]) grad_rest.segment<12>(12 * b).setZero();
-  contact_->initialize_kappa(x_, grad_rest);
 }
 
 void World::solve_coupled(double c2, StepDiagnostics& d) {
@@ -368,25 +111,11 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   // Where each body heads (its prediction; the target, for a driven kinematic body).
   x_free_ = x_pred_;
 
-  // Newton tolerances per body. Static friction is a spring of stiffness μλ / (ε_v h): a
-  // force it cannot hold moves a Newton step of only ~ε_v h before the contact slides, so
-  // below ε_v in velocity units a step tolerance cannot tell sticking from the onset of
-  // sliding. Bodies with lagged friction this step converge to 0.1 ε_v (translation) and
-  // 0.1 ε_v / radius (affine) at most.
+  // Newton tolerances per body: the settings', tightened by terms whose force turns over a
+  // small speed (friction; EnergyTerm::limit_tolerances).
   tol_translation_.setConstant(n_, settings_.tol_translation);
   tol_affine_.setConstant(n_, settings_.tol_affine);
-  if (contact_) {
-    std::vector<unsigned char> rubbing(n_, 0);
-    contact_->mark_friction_bodies(rubbing);
-    const double tol = 0.1 * contact_->settings().eps_v;
-    for (int b = 0; b < n_; ++b)
-      if (rubbing[b]) {
-        tol_translation_[b] = std::min(tol_translation_[b], tol);
-        tol_affine_[b] = std::min(tol_affine_[b], tol / radius_[b]);
-      }
-  }
-
-  for (const auto& t : terms_) t->limit_tolerances(tol_translation_, tol_affine_);
+  for (const auto& t : terms_) t->limit_tolerances(tol_translation_, tol_affine_, radius_);
 
   // 1. Kinematic bodies; 2. the start iterate.
   x_ = q_;
@@ -426,13 +155,16 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       bool changed = false;
       for (const auto& t : terms_) changed = t->refresh_lagged(x_) || changed;
       if (changed) {
-        std::vector<unsigned char> rubbing(n_, 0);
-        if (contact_) contact_->mark_friction_bodies(rubbing);
-        const double tol = contact_ ? 0.1 * contact_->settings().eps_v : 0.0;
+        // The bodies the refresh changed iterate again, to the tolerances of the new
+        // lagged state.
+        std::vector<unsigned char> lagged(n_, 0);
+        for (const auto& t : terms_) t->mark_lagged_bodies(lagged);
+        VecX tol_t = tol_translation_, tol_a = tol_affine_;
+        for (const auto& t : terms_) t->limit_tolerances(tol_t, tol_a, radius_);
         for (int b = 0; b < n_; ++b) {
-          if (!rubbing[b] || !movable_[b]) continue;
-          tol_translation_[b] = std::min(tol_translation_[b], tol);
-          tol_affine_[b] = std::min(tol_affine_[b], tol / radius_[b]);
+          if (!lagged[b] || !movable_[b]) continue;
+          tol_translation_[b] = tol_t[b];
+          tol_affine_[b] = tol_a[b];
           frozen_[island(b)] = converged_[island(b)] = 0;
         }
         links.clear();
@@ -475,7 +207,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     if (it == 0) {
       // κ from the gradient balance at the start iterate (grad_ holds the bodies' own part
       // of ∇Π now), then Π at the start with that κ.
-      initialize_contact_stiffness(c2, grad_);
+      balance_term_stiffness(c2, grad_);
       links.clear();
       rest = body_energies(x_, c2, body_E_, links);
       for (const BodyLink& l : links) merge_islands(l.a, l.b);
@@ -716,7 +448,8 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     }
 
     // Accept: terms see the new iterate; islands they now link iterate again together.
-    const double kappa_before = contact_ ? contact_->kappa() : 0.0;
+    std::vector<double> parameters;
+    for (const auto& t : terms_) parameters.push_back(t->energy_parameter());
     for (const auto& t : terms_) t->update(x_);
     d.time_contact_update += lap.split();
     for (int r = 0; r < n_; ++r)
@@ -724,7 +457,10 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     links.clear();
     for (const auto& t : terms_) t->body_links(movable_, links);
     for (const BodyLink& l : links) merge_islands(l.a, l.b);
-    if (contact_ && contact_->kappa() != kappa_before) {  // adaptive κ doubled: Π changed
+    bool reparametrised = false;  // e.g. adaptive κ doubled: Π changed
+    for (std::size_t k = 0; k < terms_.size(); ++k)
+      reparametrised = reparametrised || terms_[k]->energy_parameter() != parameters[k];
+    if (reparametrised) {
       links.clear();
       rest = body_energies(x_, c2, body_E_, links);
       for (const BodyLink& l : links) merge_islands(l.a, l.b);
@@ -744,6 +480,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     }
   }
   d.converged = true;
+  remember_warm_start(c2);
   d.newton_iterations = std::max(d.newton_iterations, free_newton);
   d.linear_solver = solver_used.empty() ? "block_diagonal" : solver_used;
 

@@ -1,4 +1,4 @@
-// Small helpers shared by the World's translation units (world.cpp, world_coupled.cpp).
+// Small helpers shared by the World's translation units (world*.cpp).
 #pragma once
 #include <cmath>
 #include <stdexcept>
@@ -29,5 +29,9 @@ inline double roundoff(double energy) { return 1e-12 * std::abs(energy); }
 // the line search did with it: at that size step bounds and Armijo tests are noise. Above
 // it, only a step taken whole converges (a shortened step says the model is off).
 constexpr double kRoundoffStep = 1e-2;
+
+// Per-body loops whose bodies cost well under a microsecond each are not worth handing to the
+// worker pool below this many bodies.
+constexpr int kLightLoop = 1024;
 
 }  // namespace abd::world_detail

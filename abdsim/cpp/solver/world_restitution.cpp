@@ -1,6 +1,7 @@
 // The restitution law after a committed step (contact/damping/restitution.h,
 // docs/restitution.md): it changes velocities only, so it runs on the committed state.
 #include "common/affine.h"
+#include "contact/ipc_contact_term.h"
 #include "solver/world.h"
 
 namespace abd {

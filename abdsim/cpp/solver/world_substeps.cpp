@@ -15,6 +15,7 @@
 #include <string>
 
 #include "common/affine.h"
+#include "contact/ipc_contact_term.h"
 #include "solver/world.h"
 
 namespace abd {

@@ -1,0 +1,199 @@
+// Where the coupled solve starts (world_coupled.cpp, steps 1 and 2): kinematic bodies at
+// their targets or driven, free solutions of the bodies nothing comes near, warm guesses of
+// jointed islands, everything else where it is.
+#include <algorithm>
+#include <numeric>
+#include <vector>
+
+#include "common/affine.h"
+#include "solver/body_math.h"
+#include "solver/parallel.h"
+#include "solver/world.h"
+#include "solver/world_detail.h"
+
+namespace abd {
+using namespace world_detail;
+
+// Kinematic bodies: at their targets (constrained) when the move is free of contact with
+// everything else at rest; otherwise driven (movable, pulled by the stiff spring).
+void World::place_kinematic_bodies(StepDiagnostics& d) {
+  VecX dq = VecX::Zero(12 * n_);
+  bool any = false;
+  for (int b = 0; b < n_; ++b) {
+    if (!kinematic_[b]) continue;
+    const Vec12 step = q_tilde_.segment<12>(12 * b) - q_.segment<12>(12 * b);
+    if (step.isZero(0.0)) continue;
+    dq.segment<12>(12 * b) = step;
+    any = true;
+  }
+  std::vector<unsigned char> moving(n_, 0), near;
+  std::vector<BodyLink> links;
+  while (any) {
+    for (int b = 0; b < n_; ++b) moving[b] = !dq.segment<12>(12 * b).isZero(0.0);
+    const double global = step_bounds(q_, dq, moving, near, links);
+    bool blocked = false;
+    for (int b = 0; b < n_; ++b) {
+      if (!moving[b] || std::min(bound_[b], global) >= 1.0) continue;
+      driven_[b] = 1;
+      constrained_[b] = 0;
+      dq.segment<12>(12 * b).setZero();
+      blocked = true;
+    }
+    if (!blocked) break;
+    any = !dq.isZero(0.0);
+  }
+  for (int b = 0; b < n_; ++b) {
+    if (constrained_[b] && kinematic_[b]) x_.segment<12>(12 * b) = q_tilde_.segment<12>(12 * b);
+    if (driven_[b]) {
+      x_free_.segment<12>(12 * b) = q_tilde_.segment<12>(12 * b);  // head for the target
+      ++d.driven_bodies;
+    }
+  }
+}
+
+// The Newton start. Every movable body is checked on its way to its prediction x̃ (the
+// target for driven bodies). Bodies that nothing comes near on that move (no term reaches
+// them within d̂) run the per-body Newton solve of the fast path and keep its free solution.
+// They are done (frozen) when no contact pair involves them there (the energy of the terms
+// is zero around it: it is the solution) and their path to it is clear: the checked one, when
+// the solution lies within d̂/4 of the prediction (so the path stays farther than d̂/2 from
+// everything), else their own move, checked again against everything else at its start.
+// Every island with something near starts where it is (IPC's start, always feasible): a
+// start clipped by CCD short of the free solution would sit deep in the barrier, where
+// Newton on a log barrier only creeps back out.
+void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
+  // Jointed bodies head for their warm guess (warm_guess): islands of them start there when
+  // that move is feasible (every step bound 1), else where they are.
+  mark_jointed();
+  std::vector<unsigned char> warm(n_, 0);
+  for (int b = 0; b < n_; ++b) {
+    if (!jointed_[b] || driven_[b]) continue;
+    Vec12 guess;
+    warm[b] = warm_guess(b, c2, guess);
+    if (warm[b]) x_free_.segment<12>(12 * b) = guess;
+  }
+  dq_.setZero(12 * n_);
+  for (int b = 0; b < n_; ++b)
+    if (movable_[b]) dq_.segment<12>(12 * b) = x_free_.segment<12>(12 * b) - x_.segment<12>(12 * b);
+  if (!split) {
+    int first = -1;
+    for (int b = 0; b < n_; ++b)
+      if (movable_[b]) {
+        if (first < 0)
+          first = b;
+        else
+          merge_islands(first, b);
+      }
+  }
+  std::vector<unsigned char> near;
+  std::vector<BodyLink> links;
+  const double global = step_bounds(x_, dq_, movable_, near, links);
+  for (const BodyLink& l : links) merge_islands(l.a, l.b);
+  join_constrained_islands(near);
+  std::vector<unsigned char> warm_island(n_, 1);  // per island root: start at the warm guess
+  for (int b = 0; b < n_; ++b)
+    if (movable_[b] && !(warm[b] && bound_[b] >= 1.0 && global >= 1.0)) warm_island[island(b)] = 0;
+  std::vector<unsigned char> stays(n_, 0);  // per island root: start where it is
+  for (int b = 0; b < n_; ++b)
+    if (movable_[b] && (near[b] || bound_[b] < 1.0 || global < 1.0)) stays[island(b)] = 1;
+
+  // Free solutions of the bodies of islands that nothing comes near.
+  double reach = 0.0;
+  for (const auto& t : terms_) reach = std::max(reach, t->reach());
+  const double slack = 0.25 * reach;
+  free_iterations_.assign(n_, 0);
+  std::vector<unsigned char> solved(n_, 0), strayed(n_, 0);
+  for (int b = 0; b < n_; ++b) solved[b] = split && movable_[b] && !driven_[b] && !stays[island(b)];
+  parallel_for(n_, threads_, [&](int b) {
+    if (!solved[b]) return;
+    Vec12 x = x_pred_.segment<12>(12 * b);
+    BodyNewton r;
+    newton_body(b, c2, x, r, nullptr);
+    free_iterations_[b] = r.iterations;
+    const Vec12 dev = x - x_pred_.segment<12>(12 * b);
+    const double moved = dev.head<3>().norm() + extent_[b] * affine_A(dev).norm();
+    if (r.status != kConverged) {
+      solved[b] = 0;
+    } else {
+      x_free_.segment<12>(12 * b) = x;
+      strayed[b] = moved > slack;
+    }
+  });
+  bool recheck = false;
+  for (int b = 0; b < n_; ++b) {
+    d.total_body_iterations += free_iterations_[b];
+    recheck = recheck || (solved[b] && strayed[b]);
+  }
+  if (recheck) {
+    // Some free solutions strayed from the checked path: check the solved bodies' own moves
+    // with the jointed islands' moves to their warm guesses (everything else where it
+    // starts); a warm island whose move is no longer clear starts where it is.
+    dq_.setZero(12 * n_);
+    for (int b = 0; b < n_; ++b)
+      if (solved[b] || (warm[b] && warm_island[island(b)]))
+        dq_.segment<12>(12 * b) = x_free_.segment<12>(12 * b) - x_.segment<12>(12 * b);
+    std::vector<unsigned char> near2;
+    std::vector<BodyLink> links2;
+    const double global2 = step_bounds(x_, dq_, movable_, near2, links2);
+    for (int b = 0; b < n_; ++b) {
+      if (solved[b] && (near2[b] || bound_[b] < 1.0)) solved[b] = 0;
+      if (warm[b] && (bound_[b] < 1.0 || global2 < 1.0)) warm_island[island(b)] = 0;
+    }
+  }
+  for (int b = 0; b < n_; ++b)
+    if (split && movable_[b] && !driven_[b] && !stays[island(b)] && !solved[b])
+      stays[island(b)] = 1;  // its free solution failed, or its own move comes near
+  bool all_clear = split;  // every movable body solved alone: no contact pair anywhere
+  for (int b = 0; b < n_; ++b) {
+    if (!movable_[b]) continue;
+    const double bound = std::min(bound_[b], global);
+    d.min_term_max_step = std::min(d.min_term_max_step, bound);
+    if (!stays[island(b)] || warm_island[island(b)]) x_.segment<12>(12 * b) = x_free_.segment<12>(12 * b);
+    all_clear = all_clear && solved[b];
+  }
+  // The warm islands' moves were checked with the other bodies moving too: check them once
+  // more against where everything else now starts (only terms with a reach can object); an
+  // island whose move is not clear starts where it is.
+  auto warm_start = [&](int b) { return movable_[b] && warm[b] && warm_island[island(b)]; };
+  bool any_warm = false;
+  for (int b = 0; b < n_; ++b) any_warm = any_warm || warm_start(b);
+  if (any_warm && reach > 0.0) {
+    VecX from = x_;
+    dq_.setZero(12 * n_);
+    for (int b = 0; b < n_; ++b)
+      if (warm_start(b)) {
+        from.segment<12>(12 * b) = q_.segment<12>(12 * b);
+        dq_.segment<12>(12 * b) = x_.segment<12>(12 * b) - q_.segment<12>(12 * b);
+      }
+    std::vector<unsigned char> near3;
+    std::vector<BodyLink> links3;
+    const double global3 = step_bounds(from, dq_, movable_, near3, links3);
+    for (int b = 0; b < n_; ++b)
+      if (warm_start(b) && (bound_[b] < 1.0 || global3 < 1.0)) warm_island[island(b)] = 0;
+    for (int b = 0; b < n_; ++b)
+      if (movable_[b] && warm[b] && !warm_island[island(b)] && stays[island(b)])
+        x_.segment<12>(12 * b) = q_.segment<12>(12 * b);
+  }
+  project_constraints();  // constrained bodies start where they are: on c = 0
+  for (const auto& t : terms_) {
+    if (all_clear)
+      t->update_clear(x_);  // what update() would find, without the proximity query
+    else
+      t->update(x_);
+  }
+  links.clear();
+  for (const auto& t : terms_) t->body_links(movable_, links);
+  for (const BodyLink& l : links) merge_islands(l.a, l.b);
+  if (!split) return;
+  // Islands with nothing near, at their free solution, with no contact there: solved.
+  std::vector<unsigned char> engaged(n_, 0);
+  for (const auto& t : terms_) t->mark_active_bodies(engaged);
+  std::vector<unsigned char> free_island(n_, 1);
+  for (int b = 0; b < n_; ++b)
+    if (movable_[b] && (near[b] || stays[island(b)] || !solved[b] || engaged[b]))
+      free_island[island(b)] = 0;
+  for (int b = 0; b < n_; ++b)
+    if (movable_[b] && free_island[island(b)]) frozen_[b] = converged_[b] = 1;
+}
+
+}  // namespace abd

@@ -1,0 +1,155 @@
+"""The constrained Newton solve (solver/constrained_solve.h, solver/tree_kkt.h) against a
+dense numpy solve of the same KKT system [H Jᵀ; J 0] [x; λ] = [rhs; −c]: articulations
+(forests) take the block-tree elimination, anything else the sparse LDLᵀ."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from abdsim import _core
+
+RNG_SEED = 7
+
+
+def point_rows(child: int, parent: int, xc: np.ndarray, xp: np.ndarray, rng) -> list:
+    """Three rows x_child(x̄_c) − x_parent(x̄_p) = 0 (parent −1: the world), values random."""
+    rows = []
+    for k in range(3):
+        ja = np.zeros(12)
+        ja[k] = 1.0
+        ja[3 + 3 * k : 6 + 3 * k] = xc
+        jb = np.zeros(12)
+        if parent >= 0:
+            jb[k] = -1.0
+            jb[3 + 3 * k : 6 + 3 * k] = -xp
+        rows.append((child, parent, ja, jb, float(rng.normal(scale=1e-3))))
+    return rows
+
+
+def hinge_rows(child: int, parent: int, rng) -> list:
+    """A revolute joint's six rows: its anchor and a second point on the axis."""
+    anchor, axis = rng.normal(size=3), rng.normal(size=3)
+    return point_rows(child, parent, anchor, anchor + 0.3 * rng.normal(size=3), rng) + point_rows(
+        child, parent, anchor + axis, anchor + axis + 0.3 * rng.normal(size=3), rng
+    )
+
+
+def weld_rows(child: int, parent: int, rng) -> list:
+    """A fixed joint's twelve rows: a point and the three frame directions."""
+    rows = point_rows(child, parent, rng.normal(size=3), rng.normal(size=3), rng)
+    for _ in range(3):
+        ec, ep = rng.normal(size=3), rng.normal(size=3)
+        for k in range(3):
+            ja, jb = np.zeros(12), np.zeros(12)
+            ja[3 + 3 * k : 6 + 3 * k] = ec
+            jb[3 + 3 * k : 6 + 3 * k] = -ep
+            rows.append((child, parent, ja, jb, float(rng.normal(scale=1e-3))))
+    return rows
+
+
+def system(n: int, coupled_pairs, rng):
+    """SPD diagonal blocks and coupling blocks (each pair with its transpose) whose assembled
+    matrix is SPD (block-diagonally dominant)."""
+    couplings = []
+    bump = np.zeros(n)
+    for i, j in coupled_pairs:
+        C = rng.normal(size=(12, 12))
+        couplings += [(i, j, C), (j, i, C.T)]
+        s = np.linalg.norm(C, 2)
+        bump[i] += s
+        bump[j] += s
+    diagonal = []
+    for b in range(n):
+        R = rng.normal(size=(12, 12))
+        diagonal.append(R @ R.T + (bump[b] + 1.0) * np.eye(12))
+    return diagonal, couplings
+
+
+def dense_reference(diagonal, couplings, fixed, rows, rhs) -> np.ndarray:
+    n = len(diagonal)
+    free = [b for b in range(n) if not fixed[b]]
+    index = {b: i for i, b in enumerate(free)}
+    nf = 12 * len(free)
+    H = np.zeros((nf, nf))
+    for b in free:
+        H[12 * index[b] : 12 * index[b] + 12, 12 * index[b] : 12 * index[b] + 12] = diagonal[b]
+    for i, j, C in couplings:
+        if i in index and j in index:
+            H[12 * index[i] : 12 * index[i] + 12, 12 * index[j] : 12 * index[j] + 12] = C
+    J, c = [], []
+    for a, b, ja, jb, value in rows:
+        row = np.zeros(nf)
+        for body, grad in ((a, ja), (b, jb)):
+            if body in index:
+                row[12 * index[body] : 12 * index[body] + 12] += grad
+        if np.any(row):
+            J.append(row)
+            c.append(value)
+    J = np.array(J).reshape(len(J), nf)
+    m = len(J)
+    K = np.block([[H, J.T], [J, np.zeros((m, m))]])
+    b = np.concatenate([np.concatenate([rhs[f] for f in free]), -np.array(c)])
+    u = np.linalg.solve(K, b)
+    x = np.zeros((n, 12))
+    for f in free:
+        x[f] = u[12 * index[f] : 12 * index[f] + 12]
+    return x
+
+
+def check(diagonal, couplings, fixed, rows, expected_path: str) -> None:
+    rng = np.random.default_rng(RNG_SEED + 1)
+    rhs = rng.normal(size=(len(diagonal), 12))
+    ref = dense_reference(diagonal, couplings, fixed, rows, rhs)
+    scale = np.abs(ref).max()
+    x, path = _core.solve_kkt(diagonal, couplings, fixed, rows, rhs)
+    assert path == expected_path
+    assert np.abs(x - ref).max() <= 1e-9 * scale, np.abs(x - ref).max() / scale
+    x_sparse, path = _core.solve_kkt(diagonal, couplings, fixed, rows, rhs, allow_tree=False)
+    assert path == "sparse"
+    assert np.abs(x_sparse - ref).max() <= 1e-9 * scale
+
+
+def test_chain_with_couplings_takes_the_tree_path():
+    rng = np.random.default_rng(RNG_SEED)
+    n = 6
+    diagonal, couplings = system(n, [(0, 1), (2, 3), (3, 4)], rng)
+    rows = hinge_rows(0, -1, rng)
+    for b in range(1, n):
+        rows += hinge_rows(b, b - 1, rng)
+    check(diagonal, couplings, [0] * n, rows, "tree")
+
+
+def test_branching_tree_rooted_at_its_world_joint_with_a_weld_and_a_fixed_body():
+    rng = np.random.default_rng(RNG_SEED)
+    n = 7
+    # The world joint is on body 4; body 6 is fixed, so the joint 5 -> 6 holds 5 to a constant.
+    diagonal, couplings = system(n, [(4, 0), (0, 1), (4, 2)], rng)
+    rows = hinge_rows(4, -1, rng) + hinge_rows(0, 4, rng) + hinge_rows(1, 0, rng)
+    rows += hinge_rows(2, 4, rng) + weld_rows(3, 2, rng) + hinge_rows(5, 6, rng)
+    fixed = [0] * n
+    fixed[6] = 1
+    check(diagonal, couplings, fixed, rows, "tree")
+
+
+def test_loop_takes_the_sparse_path():
+    rng = np.random.default_rng(RNG_SEED)
+    n = 4
+    diagonal, couplings = system(n, [(0, 1)], rng)
+    rows = hinge_rows(0, -1, rng) + hinge_rows(1, 0, rng) + hinge_rows(2, 1, rng)
+    rows += point_rows(3, 2, rng.normal(size=3), rng.normal(size=3), rng)
+    rows += point_rows(3, 0, rng.normal(size=3), rng.normal(size=3), rng)  # closes a loop
+    check(diagonal, couplings, [0] * n, rows, "sparse")
+
+
+def test_redundant_rows_fall_back_to_the_sparse_path():
+    """A hinge doubled between the same bodies: the tree path declines (dependent rows of
+    one node), the regularised sparse path still meets every row."""
+    rng = np.random.default_rng(RNG_SEED)
+    diagonal, couplings = system(2, [], rng)
+    rows = hinge_rows(0, -1, rng) + hinge_rows(1, 0, rng)
+    rows += rows[6:]
+    x, path = _core.solve_kkt(diagonal, couplings, [0, 0], rows, np.ones((2, 12)))
+    assert path == "sparse"
+    for a, b, ja, jb, value in rows:
+        residual = ja @ x[a] + (jb @ x[b] if b >= 0 else 0.0) + value
+        assert abs(residual) <= 1e-9, residual
