@@ -136,17 +136,26 @@ def test_a_continuous_joint_swinging_through_pi(tmp_path):
 
 @pytest.mark.xfail(
     strict=True,
-    reason="the loaders now simulate URDF <limit> (issue 11, robots-load): the fingers, "
-    "released 2 mm below their 0.04 m limit, reach it within 0.3 s, where MuJoCo's soft limit, "
-    "abdsim's barrier and Pinocchio's limitless ABA part (with limits stripped, MuJoCo and "
-    "Pinocchio agree to round-off and abdsim follows both within 3.9e-5 m)",
+    reason="open: with the URDF's finger damping (0.3) now simulated, MuJoCo's fingers end "
+    "2.7 mm and 0.29 m/s from abdsim's, which follow Pinocchio within 1.8e-6 m, from any start "
+    "in range (0.01, 0.02, 0.03 m measured); the MuJoCo twin's finger model is not explained yet",
 )
 def test_the_panda_fingers_mimic_is_not_imposed_on_mujoco(tmp_path):
     """MuJoCo couples the Panda's fingers (URDF <mimic>) by an equality that abdsim and
     Pinocchio do not have: the twin drops it, with a note, and then follows Pinocchio
     (without it MuJoCo's fingers slid 0.22 m apart from Pinocchio's in 0.5 s)."""
+    import pinocchio as pin
+
+    from abdsim.validation.robot_setup import default_configuration
+
     panda = robot_file("panda_description/urdf/panda.urdf")
-    res = validate(panda, duration=0.3, out=tmp_path, progress=False)
+    # The fingers start mid-range: at the default pose (5 % of the range below the upper
+    # limit) they reach their limit, which Pinocchio's ABA does not have.
+    model = pin.buildModelFromUrdf(str(panda))
+    q = default_configuration(model)
+    fingers = [model.idx_qs[model.getJointId(f"panda_finger_joint{k}")] for k in (1, 2)]
+    q[fingers] = 0.02
+    res = validate(panda, duration=0.3, out=tmp_path, progress=False, robot={"q": q})
     assert any("<mimic>" in note for note in res.metrics["notes"])
     joints = res.metrics["joints"]
     for name in ("panda_finger_joint1", "panda_finger_joint2"):
