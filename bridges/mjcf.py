@@ -125,7 +125,7 @@ def load_mjcf(
     )
     bodies, grounds, source_map, joints = loader.run(include_visual, skip_unsupported)
     # <sensor> elements (bridges/mjcf_sensors.py): MuJoCo's layout, unsupported ones in notes.
-    from abdsim.bridges.mjcf_sensors import read_sensors
+    from abdsim.bridges.mjcf_sensors import actuator_sensors, read_sensors
 
     sensors = read_sensors(loader, source_map)
     # MuJoCo's collision filter and per-pair friction (bridges/_contact_rules.py).
@@ -143,6 +143,7 @@ def load_mjcf(
         actuators = read_actuators(
             mujoco, model, source_map, loader.pose_in_root, loaded, loader.notes
         )
+        sensors = actuator_sensors(sensors, actuators, model, loader.notes)
     contact_damping = solref_damping(model, loader.notes)
     for note in loader.notes:
         warnings.warn(note, stacklevel=2)

@@ -8,8 +8,9 @@ camera, optionally relative to another such frame). Their frames are expressed i
 the loaded body (weld group root) the MuJoCo body belongs to. ``jointpos`` and ``jointvel`` of
 hinges and slides read the joint of the same name in a scene built with
 ``build_articulated_scene`` (jointpos adds the loaded qpos: MuJoCo's value), ``actuatorfrc``
-the abdsim actuator of the same index (``Scene.add_actuator``; MJCF actuators are not loaded
-yet); without them they read NaN, and notes say so. Everything else (other types; frames on
+the loaded joint actuator the MuJoCo actuator became (``actuator_sensors``; with
+``kinematic=True`` the abdsim actuator of the same index, ``Scene.add_actuator``); without them
+they read NaN, and notes say so. Everything else (other types; frames on
 the world or on a body that was not loaded) keeps its slot as an ``"unsupported"`` sensor (NaN
 values) and is named in ``LoadResult.notes``.
 """
@@ -75,9 +76,11 @@ def _joint_sensor(loader: Any, kind: str, name: str, objid: int) -> tuple[Sensor
     """A jointpos / jointvel / actuatorfrc sensor (and a note), or (None, why not)."""
     mj, m = loader.mj, loader.m
     if kind == "actuatorfrc":
+        if loader.articulated:  # the loaded actuator's index is set by actuator_sensors below
+            return SensorSpec(type=kind, body=-1, name=name, actuator=objid, dim=1, source=kind), ""
         loader.notes.append(
             f"sensor {name!r} (actuatorfrc): reads abdsim actuator {objid} "
-            "(Scene.add_actuator; MJCF actuators are not loaded), NaN without it"
+            "(Scene.add_actuator; kinematic=True loads no actuators), NaN without it"
         )
         return SensorSpec(type=kind, body=-1, name=name, actuator=objid, dim=1, source=kind), ""
     jtype = _enum_name(mj.mjtJoint, m.jnt_type[objid], "mjJNT_")
@@ -150,3 +153,30 @@ def read_sensors(loader: Any, source_map: dict[int, int]) -> list[SensorSpec]:
             spec = SensorSpec(type="unsupported", body=-1, name=name, dim=dim, source=kind)
         specs.append(spec)
     return specs
+
+
+def actuator_sensors(specs: list[SensorSpec], actuators: list[Any], model: Any, notes: list[str]):
+    """``specs`` with each ``actuatorfrc`` sensor (MuJoCo actuator id in ``actuator``) reading
+    the abdsim joint actuator that MuJoCo actuator became (``bridges/_mjcf_actuators.py``,
+    added to the scene in order, site actuators excepted), scaled back to MuJoCo's force by
+    the gear rescaling s (``gain``); one whose actuator was not loaded is an unsupported slot
+    with a note."""
+    from dataclasses import replace
+
+    joint = [a for a in actuators if a.kind != "site"]
+    index = {a.mj_id: k for k, a in enumerate(joint)}
+    out = []
+    for s in specs:
+        if s.type == "actuatorfrc":
+            k = index.get(s.actuator)
+            if k is None:
+                notes.append(
+                    f"sensor {s.name!r} (actuatorfrc): its actuator was not loaded as a joint "
+                    "actuator (see the actuator notes); its value in sensordata is NaN"
+                )
+                s = SensorSpec(type="unsupported", body=-1, name=s.name, dim=1, source=s.type)
+            else:
+                gear = float(model.actuator_gear[s.actuator, 0])
+                s = replace(s, actuator=k, gain=joint[k].gear / gear)
+        out.append(s)
+    return out

@@ -53,7 +53,7 @@ def joint_sensor_values(
         elif s.type == "actuatorfrc" and 0 <= s.actuator < len(actuators):
             a = actuators[s.actuator]
             name = joints[a.joint].name
-            value = actuator_force(
+            value = s.gain * actuator_force(
                 a, float(ctrl[s.actuator]), positions[q_adr[name]], velocities[v_adr[name]]
             )
         if s.cutoff > 0 and np.isfinite(value):

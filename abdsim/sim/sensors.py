@@ -92,6 +92,9 @@ class SensorSpec:
         joint: jointpos / jointvel only: the joint's name (``Scene.add_joint``).
         actuator: actuatorfrc only: the actuator's index (``Scene.add_actuator``).
         offset: jointpos only: added to the joint coordinate (MuJoCo's qpos at load).
+        gain: actuatorfrc only: the reading is ``gain`` times the actuator's force (an MJCF
+            actuator mapped onto a preset with its gear rescaled by s reads s times abdsim's
+            force, MuJoCo's value).
     """
 
     type: str
@@ -107,6 +110,7 @@ class SensorSpec:
     joint: str = ""
     actuator: int = -1
     offset: float = 0.0
+    gain: float = 1.0
 
 
 class SensorSet:

@@ -84,3 +84,49 @@ def test_joint_sensors_read_nan_without_joints_and_are_checked(pendulum):
         world.add_joint_sensor("actuatorfrc", 1)
     with pytest.raises(ValueError, match="add_joint_sensor"):
         world.add_sensor("jointpos", 0)
+
+
+GENERAL = """<mujoco><option timestep="1e-3" integrator="RK4"/><compiler angle="radian"/>
+  <worldbody><body name="arm" pos="0 0 1">
+    <joint name="swing" type="hinge" axis="0 1 0"/>
+    <geom type="box" size="0.03 0.03 0.2" pos="0 0 -0.2" density="1000"/>
+    <site name="tip" pos="0 0 -0.4"/>
+  </body></worldbody>
+  <actuator>
+    <motor name="thruster" site="tip" gear="0 0 1 0 0 0"/>
+    <general name="filtered" joint="swing" dyntype="filter" dynprm="0.1"/>
+    <general name="servo" joint="swing" gear="2" gainprm="10" biastype="affine"
+             biasprm="0 -5 -0.2"/>
+  </actuator>
+  <sensor>
+    <actuatorfrc name="servo_force" actuator="servo"/>
+    <actuatorfrc name="filtered_force" actuator="filtered"/>
+  </sensor></mujoco>"""
+
+
+def test_actuatorfrc_follows_the_loaded_actuator_and_its_gear(tmp_path):
+    """MuJoCo actuator 2 (a ``general`` servo with gear 2, mapped onto a position preset by
+    rescaling its gear) is abdsim's joint actuator 0 (the site thruster and the filtered one
+    come first in MuJoCo's order): its actuatorfrc reads MuJoCo's actuator-space force
+    (10 u − 5 L − 0.2 L̇, L = 2 θ) within 5e-3 N over 0.5 s; the filtered actuator is not
+    modelled, so its sensor is NaN with a note."""
+    path = tmp_path / "general.xml"
+    path.write_text(GENERAL)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = load_mjcf(path, kappa=1e10)
+    assert any("filtered_force" in note for note in result.notes)
+    world = abdsim.World(build_articulated_scene(result, integrator="bdf2", contact=False))
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    world.ctrl[0] = data.ctrl[2] = 0.3
+    worst, peak = 0.0, 0.0
+    for _ in range(500):
+        world.step()
+        mujoco.mj_step(model, data)
+        mujoco.mj_forward(model, data)
+        assert np.isnan(world.sensordata[1]) and np.isfinite(world.sensordata[0])
+        worst = max(worst, abs(world.sensordata[0] - data.sensordata[0]))
+        peak = max(peak, abs(data.sensordata[0]))
+    assert worst < 5e-3, worst
+    assert peak > 1.0  # the servo pushed
