@@ -85,6 +85,14 @@ def check_inertia(inertia: np.ndarray, what: str = "inertia") -> None:
         raise ValueError(
             f"{what} violates the triangle inequality (principal moments {moments.tolist()})"
         )
+    # On the triangle equality the second moment (a + b - c) / 2 along the largest moment's
+    # axis is zero: all the mass lies in a plane, and an affine body's 12x12 mass matrix
+    # (which holds the second moments) is singular.
+    if a + b <= c + tol:
+        raise ValueError(
+            f"{what} puts all the mass in a plane (principal moments {moments.tolist()}: "
+            "the two smaller sum to the largest); an affine body needs mass off every plane"
+        )
 
 
 def assign_rigid_body(

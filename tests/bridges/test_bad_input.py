@@ -70,6 +70,8 @@ def test_unsupported_geometry_names_link(tmp_path):
         # m (0.01 L)² = 3e-6 (L = the 0.1 m cube's diagonal), then λ_i = Σ_j + Σ_k.
         ({"ixx": -0.01}, [6e-6, 0.015003, 0.015003]),
         ({"ixx": 0.01, "iyy": 0.01, "izz": 0.05}, [0.025003, 0.025003, 0.05]),
+        # On the triangle equality (a lamina): Σ_z = 0, a singular mass matrix unrepaired.
+        ({"ixx": 0.01, "iyy": 0.02, "izz": 0.03}, [0.010003, 0.020003, 0.03]),
     ],
 )
 def test_degenerate_link_inertia_is_bounded_with_a_note(tmp_path, inertia, expected):

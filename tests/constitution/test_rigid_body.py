@@ -17,7 +17,8 @@ def test_round_trip_random_bodies(rng):
     for _ in range(20):
         r, _ = np.linalg.qr(rng.normal(size=(3, 3)))
         moments = np.sort(rng.uniform(0.5, 2.0, size=3))
-        moments[2] = min(moments[2], moments[0] + moments[1])  # triangle inequality
+        # strict triangle inequality: on the equality the mass lies in a plane (singular mass)
+        moments[2] = min(moments[2], 0.99 * (moments[0] + moments[1]))
         inertia = r @ np.diag(moments) @ r.T
         m = rng.uniform(0.1, 10)
         c = rng.normal(size=3)
@@ -58,3 +59,15 @@ def test_to_then_from_rigid_body_recovers_dyadic_mass():
 def test_non_physical_rigid_body_raises(mass, inertia, message):
     with pytest.raises(ValueError, match=message):
         abdsim.from_rigid_body(mass, np.zeros(3), inertia)
+
+
+def test_an_inertia_with_all_mass_in_a_plane_is_refused():
+    """Principal moments on the triangle equality (a + b = c: a lamina) leave a zero second
+    moment, so the 12x12 mass matrix would be singular: a clear error, not a failed World."""
+    r, _ = np.linalg.qr(np.random.default_rng(3).normal(size=(3, 3)))
+    sc = abdsim.geometry.box(1.0)
+    abdsim.AffineBodyConstitution().apply_to(sc, kappa=1e8)
+    with pytest.raises(ValueError, match="all the mass in a plane"):
+        abdsim.assign_rigid_body(sc, 1.0, np.zeros(3), r @ np.diag([0.01, 0.02, 0.03]) @ r.T)
+    abdsim.assign_rigid_body(sc, 1.0, np.zeros(3), np.diag([0.01, 0.02, 0.0299]))  # just inside
+    np.linalg.cholesky(abdsim.mass_matrix(sc))
