@@ -18,16 +18,25 @@ import numpy as np
 
 def default_configuration(model, offset: float = 0.3) -> np.ndarray:
     """A non-singular pose away from equilibria (the joints issue's): Pinocchio's neutral
-    configuration plus ``offset``·sin(k + 1) on its k-th 1-dof coordinate (neutral is often
-    an unstable equilibrium, e.g. the upright double pendulum), moved inside each finite
-    position limit (5 % of the range from it: the Panda's neutral elbow is outside them)."""
+    configuration, or the middle of a joint's range where it has finite position limits,
+    plus ``offset``·sin(k + 1) (at most a tenth of its range) on its k-th 1-dof coordinate
+    (neutral is often an unstable
+    equilibrium, e.g. the upright double pendulum), kept 5 % of the range inside the limits.
+    Mid-range because a joint released near a limit reaches it within a fraction of a second
+    (the Panda's elbow and wrist from neutral), and past a limit MuJoCo's soft limit and
+    abdsim's barrier are different models (Pinocchio has none)."""
     import pinocchio as pin
 
     q = pin.neutral(model)
-    one_dof = [model.idx_qs[j] for j in range(1, model.njoints) if model.nqs[j] == 1]
-    q[one_dof] += offset * np.sin(np.arange(len(one_dof)) + 1.0)
     lo, hi = model.lowerPositionLimit, model.upperPositionLimit
     finite = np.isfinite(lo) & np.isfinite(hi) & (hi > lo)
+    one_dof = [model.idx_qs[j] for j in range(1, model.njoints) if model.nqs[j] == 1]
+    limited = [i for i in one_dof if finite[i]]
+    q[limited] = 0.5 * (lo[limited] + hi[limited])
+    # the offset is at most a tenth of a joint's range (the Panda's fingers span 4 cm)
+    amplitude = np.full(len(q), float(offset))
+    amplitude[limited] = np.minimum(offset, 0.1 * (hi[limited] - lo[limited]))
+    q[one_dof] += amplitude[one_dof] * np.sin(np.arange(len(one_dof)) + 1.0)
     margin = 0.05 * (hi - lo)
     q[finite] = np.clip(q[finite], (lo + margin)[finite], (hi - margin)[finite])
     return q
