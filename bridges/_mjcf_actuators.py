@@ -173,6 +173,13 @@ def read_actuators(mujoco, model, source_map, body_pose_in_root, loaded_joints, 
             why = f"{trn} transmission is not modelled"
         if why is not None:
             notes.append(f"actuator {name!r}: not simulated, {why}; it is not in world.ctrl")
+    sites = [a.name for a in out if a.kind == "site"]
+    if sites:  # a World built straight from result.scene would silently lack them
+        notes.append(
+            f"site actuators {sites}: applied by result.make_world() (abdsim.bridges.RobotWorld) "
+            "before each step; an abdsim.World built from result.scene has only the joint "
+            "actuators on its ctrl"
+        )
     return out
 
 

@@ -119,6 +119,7 @@ def test_drone_hovers_and_climbs_like_mujoco(tmp_path):
     result = _load_mjcf(path)
     assert result.actuator_names == ["t0", "t1", "t2", "t3"]
     assert result.actuator_ids.tolist() == [0, 1, 2, 3]
+    assert any("RobotWorld" in note and "'t3'" in note for note in result.notes)
     model = result.model
     mass = float(model.body_subtreemass[1])
     assert mass == pytest.approx(1.0)
