@@ -30,20 +30,6 @@ from abdsim.sim import pose as pose_math
 _SIZES = {"revolute": (1, 1), "prismatic": (1, 1), "ball": (4, 3)}
 
 
-def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton product of w-first quaternions."""
-    aw, ax, ay, az = a
-    bw, bx, by, bz = b
-    return np.array(
-        [
-            aw * bw - ax * bx - ay * by - az * bz,
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-        ]
-    )
-
-
 def _conj(q: np.ndarray) -> np.ndarray:
     return np.array([q[0], -q[1], -q[2], -q[3]])
 
@@ -114,7 +100,8 @@ def qpos_from_joint_positions(result: Any, positions: Any, world: Any = None) ->
                 q[s.sq] += x[s.aq]
         elif s.kind == "ball":
             load = _wxyz(q[s.sq : s.sq + 4], fmt)
-            q[s.sq : s.sq + 4] = _source_quat(_quat_mul(load, x[s.aq : s.aq + 4]), fmt)
+            rotated = pose_math.quaternion_product_wxyz(load, x[s.aq : s.aq + 4])
+            q[s.sq : s.sq + 4] = _source_quat(rotated, fmt)
         elif s.kind == "free" and world is not None:
             p, quat = world.pose(s.body)
             q[s.sq : s.sq + 3] = p
@@ -139,7 +126,8 @@ def joint_positions_from_qpos(result: Any, qpos: Any) -> np.ndarray:
         elif s.kind == "ball":
             a = _wxyz(load[s.sq : s.sq + 4], result.format)
             b = _wxyz(q[s.sq : s.sq + 4], result.format)
-            rel = _quat_mul(_conj(a / np.linalg.norm(a)), b / np.linalg.norm(b))
+            a, b = a / np.linalg.norm(a), b / np.linalg.norm(b)
+            rel = pose_math.quaternion_product_wxyz(_conj(a), b)
             out.extend((rel if rel[0] >= 0 else -rel).tolist())
     return np.array(out)
 

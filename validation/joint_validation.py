@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from abdsim.sim.pose import quaternion_product_wxyz
 from abdsim.validation.compare import Check
 from abdsim.validation.report import write_metrics
 from abdsim.validation.speed import speed_vs_mujoco
@@ -47,25 +48,12 @@ def floating_articulation(model) -> str | None:
     return None
 
 
-def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    w1, x1, y1, z1 = a
-    w2, x2, y2, z2 = b
-    return np.array(
-        [
-            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
-            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
-            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
-        ]
-    )
-
-
 def _coordinates(joints, adr, q_abd, q_load, qpos) -> tuple[np.ndarray, np.ndarray]:
     """(abdsim, MuJoCo) per-joint positions: hinge/slide values; a ball's angle from load."""
     ours, theirs, k = [], [], 0
     for j, a in zip(joints, adr, strict=True):
         if j.kind == "ball":
-            q_ours = _quat_mul(q_load[a : a + 4], q_abd[k : k + 4])
+            q_ours = quaternion_product_wxyz(q_load[a : a + 4], q_abd[k : k + 4])
             dot = abs(float(np.dot(q_ours, qpos[a : a + 4])))
             ours.append(2.0 * np.arccos(min(dot, 1.0)))  # angle between the two rotations
             theirs.append(0.0)

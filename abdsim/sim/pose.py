@@ -26,6 +26,20 @@ def nearest_rotations(A: np.ndarray) -> np.ndarray:
     return U @ Vt
 
 
+def quaternion_product_wxyz(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton product ``a ⊗ b`` of two w-first quaternions, (4,)."""
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return np.array(
+        [
+            aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+        ]
+    )
+
+
 def quaternions_wxyz(R: np.ndarray) -> np.ndarray:
     """Unit quaternions ``[w, x, y, z]`` (w >= 0) of rotation matrices, (n, 4).
 
