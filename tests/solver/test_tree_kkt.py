@@ -1,6 +1,8 @@
 """The constrained Newton solve (solver/constrained_solve.h, solver/tree_kkt.h) against a
 dense numpy solve of the same KKT system [H Jᵀ; J 0] [x; λ] = [rhs; −c]: articulations
-(forests) take the block-tree elimination, anything else the sparse LDLᵀ."""
+(forests) take the block-tree elimination, anything else the sparse LDLᵀ. Soft rows (a
+rank-one Hessian k g gᵀ that the solves eliminate like a row of compliance 1/k) are checked
+against the dense solve with k g gᵀ added to H."""
 
 from __future__ import annotations
 
@@ -65,7 +67,15 @@ def system(n: int, coupled_pairs, rng):
     return diagonal, couplings
 
 
-def dense_reference(diagonal, couplings, fixed, rows, rhs) -> np.ndarray:
+def soft_rows(pairs, rng, k_scale: float = 1.0) -> list:
+    """One rank-one Hessian row per (a, b) pair, with a random gradient and k > 0."""
+    return [
+        (a, b, rng.normal(size=12), rng.normal(size=12), float(k_scale * rng.uniform(0.5, 5.0)))
+        for a, b in pairs
+    ]
+
+
+def dense_reference(diagonal, couplings, fixed, rows, rhs, soft=()) -> np.ndarray:
     n = len(diagonal)
     free = [b for b in range(n) if not fixed[b]]
     index = {b: i for i, b in enumerate(free)}
@@ -76,6 +86,12 @@ def dense_reference(diagonal, couplings, fixed, rows, rhs) -> np.ndarray:
     for i, j, C in couplings:
         if i in index and j in index:
             H[12 * index[i] : 12 * index[i] + 12, 12 * index[j] : 12 * index[j] + 12] = C
+    for a, b, ga, gb, k in soft:
+        g = np.zeros(nf)
+        for body, grad in ((a, ga), (b, gb)):
+            if body in index:
+                g[12 * index[body] : 12 * index[body] + 12] += grad
+        H += k * np.outer(g, g)
     J, c = [], []
     for a, b, ja, jb, value in rows:
         row = np.zeros(nf)
@@ -96,17 +112,20 @@ def dense_reference(diagonal, couplings, fixed, rows, rhs) -> np.ndarray:
     return x
 
 
-def check(diagonal, couplings, fixed, rows, expected_path: str) -> None:
+def check(diagonal, couplings, fixed, rows, expected_path: str, soft=()) -> None:
     rng = np.random.default_rng(RNG_SEED + 1)
     rhs = rng.normal(size=(len(diagonal), 12))
-    ref = dense_reference(diagonal, couplings, fixed, rows, rhs)
+    ref = dense_reference(diagonal, couplings, fixed, rows, rhs, soft)
     scale = np.abs(ref).max()
-    x, path = _core.solve_kkt(diagonal, couplings, fixed, rows, rhs)
+    soft = list(soft)
+    x, path = _core.solve_kkt(diagonal, couplings, fixed, rows, rhs, soft_rows=soft)
     assert path == expected_path
     assert np.abs(x - ref).max() <= 1e-9 * scale, np.abs(x - ref).max() / scale
-    x_sparse, path = _core.solve_kkt(diagonal, couplings, fixed, rows, rhs, allow_tree=False)
+    x_sparse, path = _core.solve_kkt(
+        diagonal, couplings, fixed, rows, rhs, allow_tree=False, soft_rows=soft
+    )
     assert path == "sparse"
-    assert np.abs(x_sparse - ref).max() <= 1e-9 * scale
+    assert np.abs(x_sparse - ref).max() <= 1e-9 * scale, np.abs(x_sparse - ref).max() / scale
 
 
 def test_chain_with_couplings_takes_the_tree_path():
@@ -153,3 +172,33 @@ def test_redundant_rows_fall_back_to_the_sparse_path():
     for a, b, ja, jb, value in rows:
         residual = ja @ x[a] + (jb @ x[b] if b >= 0 else 0.0) + value
         assert abs(residual) <= 1e-9, residual
+
+
+def test_soft_rows_along_a_chain_match_the_dense_solve_with_their_hessian_in_h():
+    """A hinge chain whose joints also carry a rank-one row each (an actuator's Gauss–Newton
+    Hessian), some with a coupling block beside it, one against a fixed body and one to the
+    world: both paths solve the system with k g gᵀ in H."""
+    rng = np.random.default_rng(RNG_SEED)
+    n = 6
+    diagonal, couplings = system(n, [(1, 2), (3, 4)], rng)
+    rows = hinge_rows(0, -1, rng)
+    for b in range(1, n):
+        rows += hinge_rows(b, b - 1, rng)
+    soft = soft_rows([(b, b - 1) for b in range(1, n)] + [(2, 1), (4, 5)], rng)
+    fixed = [0] * n
+    # A soft row from the last body to the first closes a loop: the sparse path solves it.
+    check(diagonal, couplings, fixed, rows, "sparse", soft + soft_rows([(5, 0)], rng, 1e-3))
+    soft += soft_rows([(0, -1)], rng)
+    check(diagonal, couplings, fixed, rows, "tree", soft)
+    fixed[n - 1] = 1  # the soft row to it lands on body n − 2's diagonal block
+    check(diagonal, couplings, fixed, rows, "tree", soft)
+
+
+def test_a_full_node_folds_its_soft_rows_into_its_coupling_block():
+    """A weld carries twelve hard rows, its node has no room left for the two soft rows to
+    its parent: they enter as blocks, and the tree path still solves the same system."""
+    rng = np.random.default_rng(RNG_SEED)
+    diagonal, couplings = system(3, [(1, 2)], rng)
+    rows = hinge_rows(0, -1, rng) + weld_rows(1, 0, rng) + hinge_rows(2, 1, rng)
+    soft = soft_rows([(1, 0), (0, 1), (2, 1)], rng, k_scale=10.0)
+    check(diagonal, couplings, [0, 0, 0], rows, "tree", soft)

@@ -559,14 +559,15 @@ void bind_world(py::module_& m) {
 
 // The constrained Newton solve on its own (for tests against a dense reference): the
 // matrix from its 12x12 blocks, the rows as (body_a, body_b, ja, jb, value) (body_b −1: the
-// world). Returns the solution (n_bodies, 12) and the path taken ("tree" or "sparse").
+// world), soft rows (rank-one Hessian parts k (ga ⊕ gb)(ga ⊕ gb)ᵀ) as (a, b, ga, gb, k).
+// Returns the solution (n_bodies, 12) and the path taken ("tree" or "sparse").
 void bind_kkt(py::module_& m) {
   using Row = std::tuple<int, int, Vec12, Vec12, double>;
   m.def(
       "solve_kkt",
       [](const std::vector<Mat12>& diagonal, const HessianBlocks& couplings,
          const std::vector<int>& fixed, const std::vector<Row>& rows, const MatX12& rhs,
-         bool allow_tree) {
+         bool allow_tree, const std::vector<Row>& soft_rows) {
         const int n = static_cast<int>(diagonal.size());
         if (static_cast<int>(fixed.size()) != n || rhs.rows() != n)
           throw std::invalid_argument("solve_kkt: diagonal, fixed and rhs need one entry per body");
@@ -581,6 +582,13 @@ void bind_kkt(py::module_& m) {
           blocks.push_back({i, j, H});
         }
         system.add_blocks(blocks);
+        std::vector<HessianRow> hessian_rows;
+        for (const auto& [a, b, ga, gb, k] : soft_rows) {
+          if (!(std::isfinite(k) && k > 0.0))
+            throw std::invalid_argument("solve_kkt: a soft row's k must be positive and finite");
+          hessian_rows.push_back({a, b, ga, gb, k});
+        }
+        system.add_rows(hessian_rows, true);
         system.finalize();
         std::vector<ConstraintRow> constraint_rows;
         for (const auto& [a, b, ja, jb, value] : rows) {
@@ -601,7 +609,7 @@ void bind_kkt(py::module_& m) {
         return std::make_pair(MatX12(as_rows(x)), path);
       },
       py::arg("diagonal"), py::arg("couplings"), py::arg("fixed"), py::arg("rows"), py::arg("rhs"),
-      py::arg("allow_tree") = true);
+      py::arg("allow_tree") = true, py::arg("soft_rows") = std::vector<Row>());
 }
 
 }  // namespace

@@ -207,31 +207,51 @@ double JointForceTerm::value(const VecX& q) const {
   return total;
 }
 
-void JointForceTerm::add_gradient(const VecX& q, double scale, VecX& gradient) const {
+void JointForceTerm::assemble(const VecX& q, double scale, VecX* gradient,
+                              std::vector<BodyBlock>* blocks,
+                              std::vector<HessianRow>* rows) const {
   for (const Element& e : elements_) {
     Vec12 gc, gp;
     double E, d1, d2;
     if (!energy(e, theta_of(e, q, &gc, &gp), E, d1, d2)) continue;
     const JointFrame& f = joints_->frame(e.joint);
-    gradient.segment<12>(12 * f.spec.child) += scale * d1 * gc;
-    if (f.spec.parent >= 0) gradient.segment<12>(12 * f.spec.parent) += scale * d1 * gp;
+    const int c = f.spec.child, p = f.spec.parent;
+    if (gradient) {
+      gradient->segment<12>(12 * c) += scale * d1 * gc;
+      if (p >= 0) gradient->segment<12>(12 * p) += scale * d1 * gp;
+    }
+    if (!blocks || d2 == 0.0) continue;
+    const double k = scale * d2;
+    if (rows && p >= 0 && k > 0.0) {
+      rows->push_back({c, p, gc, gp, k});
+      continue;
+    }
+    blocks->push_back({c, c, k * gc * gc.transpose()});
+    if (p < 0) continue;
+    blocks->push_back({p, p, k * gp * gp.transpose()});
+    blocks->push_back({c, p, k * gc * gp.transpose()});
+    blocks->push_back({p, c, k * gp * gc.transpose()});
   }
+}
+
+void JointForceTerm::add_gradient(const VecX& q, double scale, VecX& gradient) const {
+  assemble(q, scale, &gradient, nullptr, nullptr);
 }
 
 void JointForceTerm::add_hessian(const VecX& q, double scale,
                                  std::vector<BodyBlock>& blocks) const {
-  for (const Element& e : elements_) {
-    Vec12 gc, gp;
-    double E, d1, d2;
-    if (!energy(e, theta_of(e, q, &gc, &gp), E, d1, d2) || d2 == 0.0) continue;
-    const JointFrame& f = joints_->frame(e.joint);
-    const double k = scale * d2;
-    blocks.push_back({f.spec.child, f.spec.child, k * gc * gc.transpose()});
-    if (f.spec.parent < 0) continue;
-    blocks.push_back({f.spec.parent, f.spec.parent, k * gp * gp.transpose()});
-    blocks.push_back({f.spec.child, f.spec.parent, k * gc * gp.transpose()});
-    blocks.push_back({f.spec.parent, f.spec.child, k * gp * gc.transpose()});
-  }
+  assemble(q, scale, nullptr, &blocks, nullptr);
+}
+
+void JointForceTerm::add_gradient_and_hessian(const VecX& q, double scale, VecX& gradient,
+                                              std::vector<BodyBlock>& blocks) const {
+  assemble(q, scale, &gradient, &blocks, nullptr);
+}
+
+void JointForceTerm::add_gradient_and_hessian_rows(const VecX& q, double scale, VecX& gradient,
+                                                   std::vector<BodyBlock>& blocks,
+                                                   std::vector<HessianRow>& rows) const {
+  assemble(q, scale, &gradient, &blocks, &rows);
 }
 
 // Largest α with the path q + t dq, t in [0, α], inside the limits: the coordinate is

@@ -56,6 +56,13 @@ class JointForceTerm : public EnergyTerm {
   double value(const VecX& q) const override;
   void add_gradient(const VecX& q, double scale, VecX& gradient) const override;
   void add_hessian(const VecX& q, double scale, std::vector<BodyBlock>& blocks) const override;
+  void add_gradient_and_hessian(const VecX& q, double scale, VecX& gradient,
+                                std::vector<BodyBlock>& blocks) const override;
+  // Each joint's Hessian E''(θ) ∇θ ∇θᵀ as one rank-one row on its two bodies (a block for a
+  // joint to the world).
+  void add_gradient_and_hessian_rows(const VecX& q, double scale, VecX& gradient,
+                                     std::vector<BodyBlock>& blocks,
+                                     std::vector<HessianRow>& rows) const override;
   double max_step(const VecX& q, const VecX& dq) const override;
   // Bodies of joints with friction loss converge to 0.1 ε (their friction turns over ε).
   void limit_tolerances(VecX& tol_translation, VecX& tol_affine,
@@ -96,6 +103,10 @@ class JointForceTerm : public EnergyTerm {
   double theta_of(const Element& e, const VecX& q, Vec12* gc, Vec12* gp) const;
   bool energy(const Element& e, double theta, double& E, double& d1, double& d2) const;
   double limit_step(const Element& e, const VecX& q, const VecX& dq) const;
+  // Gradient (if non-null) and Hessian (blocks non-null) in one pass over the joints: as
+  // blocks, or (rows non-null) as rows where a joint has two bodies.
+  void assemble(const VecX& q, double scale, VecX* gradient, std::vector<BodyBlock>* blocks,
+                std::vector<HessianRow>* rows) const;
 
   std::shared_ptr<const JointSet> joints_;
   std::vector<JointPhysics> physics_;

@@ -16,7 +16,28 @@ void BlockSystem::reset(int n_bodies, const std::vector<std::uint8_t>& fixed) {
   fixed_ = fixed;
   diag_.resize(n_);
   offdiag_.clear();
+  soft_.clear();
   row_start_.clear();
+}
+
+void BlockSystem::add_rows(const std::vector<HessianRow>& rows, bool keep) {
+  for (const HessianRow& r : rows) {
+    if (r.a < 0 || r.a >= n_ || r.b < -1 || r.b >= n_ || r.a == r.b)
+      throw SolverError("an energy term returned a Hessian row for bodies (" +
+                        std::to_string(r.a) + ", " + std::to_string(r.b) + ") outside [0, " +
+                        std::to_string(n_) + ") or on one body twice");
+    const bool free_a = !fixed_[r.a], free_b = r.b >= 0 && !fixed_[r.b];
+    if (keep && free_a && free_b) {
+      soft_.push_back(r);
+      continue;
+    }
+    if (free_a) diag_[r.a].noalias() += r.k * r.ga * r.ga.transpose();
+    if (free_b) diag_[r.b].noalias() += r.k * r.gb * r.gb.transpose();
+    if (free_a && free_b) {
+      offdiag_.push_back({r.a, r.b, r.k * r.ga * r.gb.transpose()});
+      offdiag_.push_back({r.b, r.a, r.k * r.gb * r.ga.transpose()});
+    }
+  }
 }
 
 void BlockSystem::add_blocks(const std::vector<BodyBlock>& blocks) {

@@ -31,10 +31,17 @@ class BlockSystem {
   // to the off-diagonal set (summed per (row, col)). Blocks touching a fixed body only
   // contribute their diagonal part.
   void add_blocks(const std::vector<BodyBlock>& blocks);
+  // Adds rank-one rows (HessianRow). keep = false: as their blocks (what add_blocks would
+  // get). keep = true: rows between two free bodies stay rows (soft_rows(), for the KKT
+  // solves, which eliminate them like constraint rows); their part on one free body goes
+  // to its diagonal block. Before finalize().
+  void add_rows(const std::vector<HessianRow>& rows, bool keep);
   // Call once all blocks are in: sorts the couplings into rows, sums duplicates and checks
   // that every coupling comes with its transpose (throws SolverError otherwise).
   void finalize();
-  bool coupled() const { return !offdiag_.empty(); }
+  bool coupled() const { return !offdiag_.empty() || !soft_.empty(); }
+  // Rows kept by add_rows(rows, true), each between two free bodies.
+  const std::vector<HessianRow>& soft_rows() const { return soft_; }
   // After finalize(): the couplings, each (i, j) with its (j, i), sorted by (row, col).
   const std::vector<OffDiagonal>& couplings() const { return offdiag_; }
   int num_bodies() const { return n_; }
@@ -68,6 +75,7 @@ class BlockSystem {
   std::vector<std::uint8_t> fixed_;
   std::vector<Mat12> diag_;
   std::vector<OffDiagonal> offdiag_;
+  std::vector<HessianRow> soft_;
   std::vector<int> row_start_;  // CSR over offdiag_ after finalize()
 
   // solve_direct's cache: the pattern it was analysed for (free bodies' indices, then the

@@ -2,7 +2,9 @@
 //   [H Jᵀ; J 0] [x; λ] = [rhs; −c]
 // solved as one sparse quasi-definite LDLᵀ (constrained_solve.cpp), H being SPD (the projected
 // Newton matrix, or the mass matrix for a projection): a tree of joints costs about what its
-// chain of 12x12 blocks costs. Exact (no stiffness), so a step from a point where linear
+// chain of 12x12 blocks costs. The system's soft rows (BlockSystem::soft_rows: rank-one
+// Hessian parts k g gᵀ kept out of H) enter as rows with −1/k on the diagonal, the same
+// Newton step. Exact (no stiffness), so a step from a point where linear
 // constraints hold keeps them to round-off.
 #pragma once
 #include <Eigen/SparseCholesky>

@@ -35,6 +35,19 @@ struct BodyBlock {
   Mat12 H;
 };
 
+// A rank-one Hessian contribution k (g_a ⊕ g_b)(g_a ⊕ g_b)ᵀ on bodies a and b (b = −1: on a
+// alone), k > 0: the Gauss–Newton Hessian of a potential of one scalar coordinate s(q) with
+// ∇s = (g_a, g_b). Handed as a row instead of three or four dense 12x12 blocks, it lets the
+// linear solve treat it like a constraint row with compliance 1/k (the KKT solves of
+// solver/constrained_solve.h), which costs a fraction of a dense coupling block.
+struct HessianRow {
+  int a;
+  int b;
+  Vec12 ga;
+  Vec12 gb;
+  double k;
+};
+
 // Two bodies an energy term couples (see EnergyTerm::splits_by_body).
 struct BodyLink {
   int a;
@@ -83,6 +96,13 @@ class EnergyTerm {
                                         std::vector<BodyBlock>& blocks) const {
     add_gradient(q, scale, gradient);
     add_hessian(q, scale, blocks);
+  }
+  // The same, with rank-one parts of the Hessian as rows (HessianRow, scaled like blocks)
+  // where the term has them; the default hands every part as blocks.
+  virtual void add_gradient_and_hessian_rows(const VecX& q, double scale, VecX& gradient,
+                                             std::vector<BodyBlock>& blocks,
+                                             std::vector<HessianRow>& /*rows*/) const {
+    add_gradient_and_hessian(q, scale, gradient, blocks);
   }
 
   // Largest alpha in (0, 1] such that the straight path q + t*dq, t in [0, alpha], stays

@@ -1,6 +1,9 @@
 #include "solver/tree_kkt.h"
 
 #include <algorithm>
+#include <cmath>
+
+#include "solver/small_dense.h"
 
 namespace abd {
 namespace {
@@ -19,9 +22,32 @@ int find(std::vector<int>& uf, int a) {
 
 }  // namespace
 
+void TreeKkt::signature(const BlockSystem& system, const std::vector<ConstraintRow>& rows,
+                        std::vector<int>& out) const {
+  const int n = system.num_bodies();
+  out.clear();
+  out.push_back(n);
+  for (int b = 0; b < n; ++b) out.push_back(system.is_fixed(b));
+  for (const ConstraintRow& r : rows) {
+    out.push_back(r.body_a);
+    out.push_back(r.body_b);
+  }
+  out.push_back(-2);
+  for (const HessianRow& r : system.soft_rows()) {
+    out.push_back(r.a);
+    out.push_back(r.b);
+  }
+  out.push_back(-2);
+  for (const BlockSystem::OffDiagonal& o : system.couplings()) {
+    out.push_back(o.row);
+    out.push_back(o.col);
+  }
+}
+
 bool TreeKkt::build_forest(const BlockSystem& system, const std::vector<ConstraintRow>& rows) {
   const int n = system.num_bodies();
   auto free_body = [&](int b) { return b >= 0 && !system.is_fixed(b); };
+  const auto& soft = system.soft_rows();
   edges_.clear();
   unary_.assign(n, 0);
   for (const ConstraintRow& r : rows) {
@@ -31,6 +57,7 @@ bool TreeKkt::build_forest(const BlockSystem& system, const std::vector<Constrai
     else if (fa != fb)
       unary_[fa ? r.body_a : r.body_b] = 1;
   }
+  for (const HessianRow& r : soft) edges_.emplace_back(std::min(r.a, r.b), std::max(r.a, r.b));
   for (const BlockSystem::OffDiagonal& o : system.couplings())
     if (o.row > o.col) edges_.emplace_back(o.col, o.row);
   std::sort(edges_.begin(), edges_.end());
@@ -50,27 +77,27 @@ bool TreeKkt::build_forest(const BlockSystem& system, const std::vector<Constrai
   }
   for (int b = 0; b < n; ++b) adjacency_start_[b + 1] += adjacency_start_[b];
   adjacency_.resize(adjacency_start_[n]);
-  std::vector<int> fill(adjacency_start_.begin(), adjacency_start_.end() - 1);
+  fill_.assign(adjacency_start_.begin(), adjacency_start_.end() - 1);
   for (const auto& [a, b] : edges_) {  // edges are sorted: neighbours come out ascending
-    adjacency_[fill[a]++] = b;
-    adjacency_[fill[b]++] = a;
+    adjacency_[fill_[a]++] = b;
+    adjacency_[fill_[b]++] = a;
   }
   for (int b = 0; b < n; ++b)
     std::sort(adjacency_.begin() + adjacency_start_[b], adjacency_.begin() + adjacency_start_[b + 1]);
 
   // Each tree hangs from the body held against the world (its rows then stay on their own
   // node), else from its smallest index.
-  std::vector<int> root(n, -1);
+  root_.assign(n, -1);
   for (int b = 0; b < n; ++b) {
     if (!free_body(b)) continue;
-    int& r = root[find(uf_, b)];
+    int& r = root_[find(uf_, b)];
     if (r < 0 || (!unary_[r] && unary_[b])) r = b;
   }
   nodes_.resize(n);
   for (Node& node : nodes_) node.parent = -2;  // unvisited
   order_.clear();
   for (int b = 0; b < n; ++b) {
-    if (!free_body(b) || root[find(uf_, b)] != b) continue;
+    if (!free_body(b) || root_[find(uf_, b)] != b) continue;
     nodes_[b].parent = -1;
     std::size_t head = order_.size();
     order_.push_back(b);
@@ -84,113 +111,169 @@ bool TreeKkt::build_forest(const BlockSystem& system, const std::vector<Constrai
       }
     }
   }
+
+  // Each row goes to the node that is the child end of its edge (or its one free body);
+  // a node's hard rows come before its soft ones.
+  const int n_rows = static_cast<int>(rows.size());
+  auto owner = [&](int a, int b) {
+    const bool fa = free_body(a), fb = free_body(b);
+    if (fa && fb) return nodes_[a].parent == b ? a : b;
+    return fa ? a : fb ? b : -1;
+  };
+  row_start_.assign(n + 1, 0);
+  std::vector<int>& hard = fill_;
+  hard.assign(n, 0);
+  for (const ConstraintRow& r : rows) {
+    const int o = owner(r.body_a, r.body_b);
+    if (o >= 0) ++row_start_[o + 1], ++hard[o];
+  }
+  for (const HessianRow& r : soft) ++row_start_[owner(r.a, r.b) + 1];
+  for (int b = 0; b < n; ++b) {
+    if (hard[b] > kMaxRows) return false;
+    nodes_[b].hard = hard[b];
+    row_start_[b + 1] += row_start_[b];
+  }
+  row_list_.resize(row_start_[n]);
+  hard.assign(row_start_.begin(), row_start_.end() - 1);
+  for (int k = 0; k < n_rows; ++k) {
+    const int o = owner(rows[k].body_a, rows[k].body_b);
+    if (o >= 0) row_list_[hard[o]++] = k;
+  }
+  for (int k = 0; k < static_cast<int>(soft.size()); ++k)
+    row_list_[hard[owner(soft[k].a, soft[k].b)]++] = n_rows + k;
   return true;
 }
 
-void TreeKkt::solve_node(const Node& node, const Vec12& rhs, const Values& c, Vec12& x,
-                         Values& lambda) const {
-  // H x + Jᵀ λ = rhs, J x = −c: λ = S⁻¹ (J H⁻¹ rhs + c), x = H⁻¹ (rhs − Jᵀ λ).
-  x = node.llt.solve(rhs);
-  if (node.J.rows() == 0) return;
-  lambda = node.S.solve(node.J * x + c);
-  x -= node.llt.solve(node.J.transpose() * lambda);
+void TreeKkt::solve_node(const Node& node, const Vec12& rhs, const Vec12& c, Vec12& x,
+                         Vec12& lambda) {
+  // H x + Jᵀ λ = rhs, J x − D λ = −c: λ = S⁻¹ (J H⁻¹ rhs + c), x = H⁻¹ (rhs − Jᵀ λ); with
+  // H = L Lᵀ and t = L⁻¹ rhs, J H⁻¹ rhs = W t and H⁻¹ Jᵀ λ = L⁻ᵀ Wᵀ λ.
+  x = rhs;
+  dense::lower_solve(node.L, node.L_inv_diagonal, x);
+  if (node.m > 0) {
+    lambda = c;
+    lambda.noalias() += node.W.lazyProduct(x);
+    dense::lower_solve(node.LS, node.LS_inv_diagonal, lambda, node.m);
+    dense::upper_solve(node.LS, node.LS_inv_diagonal, lambda, node.m);
+    x.noalias() -= node.W.transpose().lazyProduct(lambda);
+  }
+  dense::upper_solve(node.L, node.L_inv_diagonal, x);
 }
 
 bool TreeKkt::factor_node(int b) {
   Node& node = nodes_[b];
-  node.llt.compute(node.H);
-  if (node.llt.info() != Eigen::Success) return false;
-  const Eigen::Index m = node.J.rows();
-  Cols12 U;  // L⁻¹ Jᵀ
+  if (!dense::cholesky(node.L, node.L_inv_diagonal)) return false;
+  const int m = node.m;
   if (m > 0) {
-    U = node.J.transpose();
-    node.llt.matrixL().solveInPlace(U);
-    Square S;
-    S.noalias() = U.transpose() * U;
-    node.S.compute(S);
-    if (node.S.info() != Eigen::Success) return false;
-    const auto L = node.S.matrixLLT().diagonal();
-    if (!(L.minCoeff() * L.minCoeff() > kPivotFloor * L.maxCoeff() * L.maxCoeff())) return false;
+    dense::solve_rows_of(node.L, node.L_inv_diagonal, node.W, 12);
+    // S = W Wᵀ + D (lower triangle; the padding rows of W are zero), column by column.
+    node.LS.setZero();
+    for (int j = 0; j < 12; ++j)
+      for (int k = 0; k < m; ++k) node.LS.col(k) += node.W(k, j) * node.W.col(j);
+    node.LS.diagonal() += node.D;  // the padding: 1
+    // Rows past m are padding (S = I there): only the leading m x m block is factorised.
+    if (!dense::cholesky(node.LS, node.LS_inv_diagonal, m)) return false;
+    if (node.hard > 0) {  // the hard rows' pivots (the soft ones are at least √D)
+      const auto pivots = node.LS.diagonal().head(node.hard);
+      const double lo = pivots.minCoeff(), hi = pivots.maxCoeff();
+      if (!(lo * lo > kPivotFloor * hi * hi)) return false;
+    }
   }
   solve_node(node, node.r, node.c, node.yx, node.yl);
   if (node.parent < 0) return true;
   Node& parent = nodes_[node.parent];
-  Rows12 Q = -node.JP;  // J H⁻¹ H_bP − J_P, then L_S⁻¹ of it
+  // Qᵀ = (W V − J_P)ᵀ, then L_S⁻¹ applied to Q (its columns, Qᵀ's rows).
+  Mat12 Qt = -node.JPt;
   if (node.coupling) {
     Mat12 V = *node.coupling;
-    node.llt.matrixL().solveInPlace(V);
-    if (m > 0) Q.noalias() += U.transpose() * V;
-    parent.H.noalias() -= V.transpose() * V;
+    dense::lower_solve(node.L, node.L_inv_diagonal, V);
+    if (m > 0) Qt.noalias() += V.transpose() * node.W.transpose();
+    dense::subtract_gram(V, parent.L);
     parent.r.noalias() -= node.coupling->transpose() * node.yx;
   }
   if (m > 0) {
-    node.S.matrixL().solveInPlace(Q);
-    parent.H.noalias() += Q.transpose() * Q;
-    parent.r.noalias() -= node.JP.transpose() * node.yl;
+    dense::solve_rows_of(node.LS, node.LS_inv_diagonal, Qt, m);
+    for (int k = 0; k < m; ++k) dense::add_outer_lower(parent.L, Qt.col(k));
+    parent.r.noalias() -= node.JPt.lazyProduct(node.yl);
+  }
+  return true;
+}
+
+bool TreeKkt::gather(int b, const BlockSystem& system, const std::vector<ConstraintRow>& rows,
+                     const VecX& rhs) {
+  Node& node = nodes_[b];
+  const int n_rows = static_cast<int>(rows.size());
+  const auto& soft = system.soft_rows();
+  const auto& couplings = system.couplings();
+  node.L = system.diagonal(b);
+  node.r = rhs.segment<12>(12 * b);
+  node.coupling = nullptr;
+  if (node.parent >= 0 && !couplings.empty()) {
+    const auto it = std::lower_bound(
+        couplings.begin(), couplings.end(), std::make_pair(b, node.parent),
+        [](const BlockSystem::OffDiagonal& o, const std::pair<int, int>& key) {
+          return o.row != key.first ? o.row < key.first : o.col < key.second;
+        });
+    if (it != couplings.end() && it->row == b && it->col == node.parent) node.coupling = &it->H;
+  }
+  const int count = row_start_[b + 1] - row_start_[b];
+  node.m = std::min(count, kMaxRows);
+  node.W.setZero();
+  node.JPt.setZero();
+  node.c.setZero();
+  node.D.setOnes();  // padding rows: zero rows of compliance 1
+  for (int k = 0; k < count; ++k) {
+    const int index = row_list_[row_start_[b] + k];
+    if (index < n_rows) {
+      const ConstraintRow& r = rows[index];
+      const bool own_a = r.body_a == b;
+      node.W.row(k) = (own_a ? r.ja : r.jb).transpose();
+      const int other = own_a ? r.body_b : r.body_a;
+      if (node.parent >= 0 && other == node.parent) node.JPt.col(k) = own_a ? r.jb : r.ja;
+      node.c[k] = r.value;
+      node.D[k] = 0.0;
+      continue;
+    }
+    const HessianRow& r = soft[index - n_rows];
+    if (!(r.k > 0.0)) return false;
+    const bool own_a = r.a == b;
+    const Vec12& g = own_a ? r.ga : r.gb;
+    const Vec12& gp = own_a ? r.gb : r.ga;
+    if (k < kMaxRows) {
+      node.W.row(k) = g.transpose();
+      node.JPt.col(k) = gp;
+      node.D[k] = 1.0 / r.k;
+      continue;
+    }
+    // No room for the row: its Hessian k (g ⊕ g_P)(g ⊕ g_P)ᵀ goes into the blocks (the
+    // parent's were gathered before: parents come first).
+    if (node.coupling != &node.own_coupling) {
+      node.own_coupling = node.coupling ? *node.coupling : Mat12::Zero();
+      node.coupling = &node.own_coupling;
+    }
+    node.L.noalias() += r.k * g * g.transpose();
+    nodes_[node.parent].L.noalias() += r.k * gp * gp.transpose();
+    node.own_coupling.noalias() += r.k * g * gp.transpose();
   }
   return true;
 }
 
 bool TreeKkt::solve(const BlockSystem& system, const std::vector<ConstraintRow>& rows,
                     const VecX& rhs, VecX& x) {
-  if (!build_forest(system, rows)) return false;
-  const int n = system.num_bodies();
-  auto free_body = [&](int b) { return b >= 0 && !system.is_fixed(b); };
-
-  // Each row goes to the node that is the child end of its edge (or its one free body).
-  auto owner = [&](const ConstraintRow& r) {
-    const bool fa = free_body(r.body_a), fb = free_body(r.body_b);
-    if (fa && fb) return nodes_[r.body_a].parent == r.body_b ? r.body_a : r.body_b;
-    return fa ? r.body_a : fb ? r.body_b : -1;
-  };
-  row_start_.assign(n + 1, 0);
-  for (const ConstraintRow& r : rows) {
-    const int o = owner(r);
-    if (o >= 0) ++row_start_[o + 1];
+  signature(system, rows, key_scratch_);
+  if (!built_ || key_scratch_ != key_) {
+    built_ = false;
+    if (!build_forest(system, rows)) return false;
+    key_.swap(key_scratch_);
+    built_ = true;
   }
-  for (int b = 0; b < n; ++b) row_start_[b + 1] += row_start_[b];
-  row_list_.resize(row_start_[n]);
-  std::vector<int> fill(row_start_.begin(), row_start_.end() - 1);
-  for (int k = 0; k < static_cast<int>(rows.size()); ++k) {
-    const int o = owner(rows[k]);
-    if (o >= 0) row_list_[fill[o]++] = k;
-  }
-
-  const auto& couplings = system.couplings();
-  for (const int b : order_) {
-    Node& node = nodes_[b];
-    const int m = row_start_[b + 1] - row_start_[b];
-    if (m > 12) return false;
-    node.H = system.diagonal(b);
-    node.r = rhs.segment<12>(12 * b);
-    node.J.resize(m, 12);
-    node.JP.setZero(m, 12);
-    node.c.resize(m);
-    for (int k = 0; k < m; ++k) {
-      const ConstraintRow& r = rows[row_list_[row_start_[b] + k]];
-      const bool own_a = r.body_a == b;
-      node.J.row(k) = (own_a ? r.ja : r.jb).transpose();
-      const int other = own_a ? r.body_b : r.body_a;
-      if (node.parent >= 0 && other == node.parent)
-        node.JP.row(k) = (own_a ? r.jb : r.ja).transpose();
-      node.c[k] = r.value;
-    }
-    node.coupling = nullptr;
-    if (node.parent >= 0) {
-      const auto it = std::lower_bound(
-          couplings.begin(), couplings.end(), std::make_pair(b, node.parent),
-          [](const BlockSystem::OffDiagonal& o, const std::pair<int, int>& key) {
-            return o.row != key.first ? o.row < key.first : o.col < key.second;
-          });
-      if (it != couplings.end() && it->row == b && it->col == node.parent) node.coupling = &it->H;
-    }
-  }
+  for (const int b : order_)
+    if (!gather(b, system, rows, rhs)) return false;
   for (auto it = order_.rbegin(); it != order_.rend(); ++it)
     if (!factor_node(*it)) return false;
 
-  x.setZero(12 * n);
-  Vec12 w;
-  Values t;
+  x.setZero(12 * system.num_bodies());
+  Vec12 w, t, a, jp;
   for (const int b : order_) {
     const Node& node = nodes_[b];
     if (node.parent < 0) {
@@ -199,9 +282,12 @@ bool TreeKkt::solve(const BlockSystem& system, const std::vector<ConstraintRow>&
     }
     // u_b = y_b − K_b⁻¹ C_b x_P, C_b x_P = [H_bP x_P; J_P x_P].
     const Vec12 xp = x.segment<12>(12 * node.parent);
-    const Vec12 a = node.coupling ? Vec12(*node.coupling * xp) : Vec12::Zero();
-    const Values jp = node.JP * xp;
-    solve_node(node, a, Values(-jp), w, t);
+    if (node.coupling)
+      a.noalias() = *node.coupling * xp;
+    else
+      a.setZero();
+    jp.noalias() = -node.JPt.transpose().lazyProduct(xp);
+    solve_node(node, a, jp, w, t);
     x.segment<12>(12 * b) = node.yx - w;
   }
   return x.allFinite();

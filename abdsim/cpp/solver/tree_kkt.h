@@ -1,20 +1,27 @@
-// The KKT system [H Jᵀ; J 0] [x; λ] = [rhs; −c] of constrained_solve.h when bodies and
-// their couplings form a forest (an articulation: every joint and every coupling block links
-// a body to its parent, none closes a loop). Then the matrix is block tree-structured with
-// one node per body: its 12 unknowns and the multipliers of the rows that tie it to its
-// parent (or to the world). Eliminating nodes leaves first, each into its parent, costs a
-// few 12x12 products per body and no fill (the Schur complement of a subtree onto its root's
-// x is the Hessian of that subtree minimised under its constraints: SPD when H is SPD and
-// each node's own rows are independent), and it is exact: no regularisation, no refinement.
+// The KKT system [H Jᵀ; J −D] [x; λ] = [rhs; −c] of constrained_solve.h when bodies and
+// their couplings form a forest (an articulation: every joint, coupling block and soft row
+// links a body to its parent, none closes a loop). Hard rows (constraints) have D = 0; the
+// soft rows of the system (BlockSystem::soft_rows, a rank-one Hessian k g gᵀ kept out of H)
+// have D = 1/k, which is the same system with k g gᵀ added to H. The matrix is then block
+// tree-structured with one node per body: its 12 unknowns and the multipliers of the rows
+// that tie it to its parent (or to the world). Eliminating nodes leaves first, each into its
+// parent, costs a few 12x12 products per body and no fill (the Schur complement of a subtree
+// onto its root's x is the Hessian of that subtree minimised under its constraints: SPD when
+// H is SPD and each node's hard rows are independent), and it is exact: no regularisation,
+// no refinement.
 //
-// Per node b with parent P: K_b = [H_bb Jᵀ; J 0] (H_bb already updated by b's children),
+// Per node b with parent P: K_b = [H_bb Jᵀ; J −D] (H_bb already updated by b's children),
 // C_b = [H_bP; J_P] its coupling to x_P. With y_b = K_b⁻¹ z_b, P gets
 // H_PP −= C_bᵀ K_b⁻¹ C_b and z_P −= C_bᵀ y_b; back-substitution from the roots:
-// u_b = y_b − K_b⁻¹ C_b x_P. With H_bb = L Lᵀ and S = J H_bb⁻¹ Jᵀ = L_S L_Sᵀ,
-// C_bᵀ K_b⁻¹ C_b = VᵀV − QᵀQ for V = L⁻¹ H_bP and Q = L_S⁻¹ (J H_bb⁻¹ H_bP − J_P): two
-// symmetric products, and K_b⁻¹ C_b is only ever applied to a vector.
+// u_b = y_b − K_b⁻¹ C_b x_P. With H_bb = L Lᵀ, W = J L⁻ᵀ and S = W Wᵀ + D = L_S L_Sᵀ,
+// C_bᵀ K_b⁻¹ C_b = VᵀV − QᵀQ for V = L⁻¹ H_bP and Q = L_S⁻¹ (W V − J_P): two symmetric
+// products, and K_b⁻¹ C_b is only ever applied to a vector. A soft row instead of a dense
+// coupling block makes V = 0: a rank-one update per row instead of 12x12 products.
+//
+// Sizes are fixed (12 unknowns, at most 12 rows per node) and the kernels are written for
+// them (solver/small_dense.h): a solve allocates nothing once sized. The forest (parents, elimination order,
+// which node carries which row) is kept while the rows and couplings join the same bodies.
 #pragma once
-#include <Eigen/Cholesky>
 #include <vector>
 
 #include "solver/block_system.h"
@@ -24,47 +31,59 @@ namespace abd {
 
 class TreeKkt {
  public:
-  // A node carries at most 12 rows (more cannot be independent on its 12 unknowns): every
-  // per-node matrix has a fixed capacity, so a solve allocates nothing once sized.
-  using Rows12 = Eigen::Matrix<double, Eigen::Dynamic, 12, Eigen::RowMajor, 12, 12>;
-  using Cols12 = Eigen::Matrix<double, 12, Eigen::Dynamic, Eigen::ColMajor, 12, 12>;
-  using Square = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 12, 12>;
-  using Values = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 12, 1>;
+  // Rows carried by one node at most (hard and soft): more hard rows cannot be independent
+  // on its 12 unknowns. Soft rows beyond it are folded into the node's coupling block.
+  static constexpr int kMaxRows = 12;
 
   // x over every body (zero on the bodies fixed in `system`), as KktFactorisation::solve.
   // Returns false (x unspecified) when the structure is not a forest, a node carries more
-  // rows than it has unknowns, or a pivot block is not (numerically) positive definite: the
+  // hard rows than it can, or a pivot block is not (numerically) positive definite: the
   // caller then takes the general sparse path, which also reports what is wrong.
   bool solve(const BlockSystem& system, const std::vector<ConstraintRow>& rows, const VecX& rhs,
              VecX& x);
 
  private:
+  // Every per-node matrix is 12x12: m < 12 rows are padded with zero rows of compliance 1
+  // (their multipliers are 0 and they change nothing), so the kernels run on fixed sizes.
   struct Node {
-    int parent = -1;                // body index, −1 for a root
+    int parent = -1;                  // body index, −1 for a root
     const Mat12* coupling = nullptr;  // H_bP (rows b, columns P), null when zero
-    Mat12 H;                        // H_bb, then updated by the children
-    Vec12 r;                        // rhs_b, updated by the children
-    Eigen::LLT<Mat12> llt;
-    Rows12 J, JP;                   // m × 12: the node's rows on x_b and on x_P
-    Values c;                       // their values
-    Eigen::LLT<Square> S;           // J H_bb⁻¹ Jᵀ
-    Vec12 yx;                       // y_b = K_b⁻¹ z_b: x part, λ part
-    Values yl;
+    Mat12 own_coupling;               // where coupling points when soft rows were folded in
+    Mat12 L;                          // H_bb (updated by the children), then its Cholesky factor
+    Vec12 r;                          // rhs_b, updated by the children
+    Vec12 L_inv_diagonal;             // 1 / diag(L)
+    int m = 0;                        // rows 0..hard−1 are hard, hard..m−1 soft
+    int hard = 0;
+    Mat12 W;                          // the rows J on x_b (row k: row k), then J L⁻ᵀ
+    Mat12 JPt;                        // the rows on x_P, transposed (column k: row k)
+    Vec12 c, D;                       // the rows' values and compliances
+    Mat12 LS;                         // Cholesky factor of S = W Wᵀ + D
+    Vec12 LS_inv_diagonal;
+    Vec12 yx, yl;                     // y_b = K_b⁻¹ z_b: x part, λ part
   };
-  // Parents of a rooted spanning forest (order_ from the roots down); false when the graph
-  // of rows and couplings over free bodies has a cycle.
+  // The forest of the rows' and couplings' bodies: parents, order_ (roots first) and which
+  // rows each node carries. False when it has a loop or a node carries too many hard rows.
   bool build_forest(const BlockSystem& system, const std::vector<ConstraintRow>& rows);
+  // The bodies each row and coupling joins, in order (the forest's key).
+  void signature(const BlockSystem& system, const std::vector<ConstraintRow>& rows,
+                 std::vector<int>& out) const;
+  // The node's blocks, rows and right-hand side from the system (its parent's first).
+  bool gather(int b, const BlockSystem& system, const std::vector<ConstraintRow>& rows,
+              const VecX& rhs);
   // Node b eliminated into its parent: its factors and y_b; false when a pivot block fails.
   bool factor_node(int b);
   // K_b⁻¹ [rhs; −c] for the node's factors: (x part, λ part).
-  void solve_node(const Node& node, const Vec12& rhs, const Values& c, Vec12& x,
-                  Values& lambda) const;
+  static void solve_node(const Node& node, const Vec12& rhs, const Vec12& c, Vec12& x,
+                         Vec12& lambda);
 
   std::vector<Node> nodes_;
-  std::vector<int> order_;           // free bodies, every parent before its children
-  std::vector<int> row_start_, row_list_;  // CSR: the rows each node carries
+  std::vector<int> order_;                 // free bodies, every parent before its children
+  std::vector<int> row_start_, row_list_;  // CSR: the rows each node carries (hard first;
+                                           // soft row k is rows.size() + k)
+  std::vector<int> key_, key_scratch_;     // signature() of the forest kept
+  bool built_ = false;
   std::vector<std::pair<int, int>> edges_;
-  std::vector<int> uf_, adjacency_start_, adjacency_;
+  std::vector<int> uf_, adjacency_start_, adjacency_, fill_, root_;
   std::vector<unsigned char> unary_;  // per body: carries a row against the world
 };
 

@@ -230,6 +230,9 @@ class World {
   VecX damping_, alpha_, island_E_, island_E_new_, island_slope_, body_E_, body_E_new_, bound_;
   BlockSystem system_;
   std::vector<BodyBlock> blocks_;
+  std::vector<HessianRow> hessian_rows_;
+  std::vector<ConstraintRow> newton_rows_;
+  VecX rhs_;
   // remember_gap: the gap, the state and the kinematic flags it was measured with.
   double gap_ = 0.0;
   VecX gap_q_;

@@ -212,21 +212,27 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       rest = body_energies(x_, c2, body_E_, links);
       for (const BodyLink& l : links) merge_islands(l.a, l.b);
     }
+    bool constrained = false;
+    for (int b = 0; b < n_ && !constraints_.empty(); ++b)
+      constrained = constrained || (jointed_[b] && !inactive[b]);
     blocks_.clear();
-    for (const auto& t : terms_) t->add_gradient_and_hessian(x_, c2, grad_, blocks_);
+    hessian_rows_.clear();
+    for (const auto& t : terms_)
+      t->add_gradient_and_hessian_rows(x_, c2, grad_, blocks_, hessian_rows_);
     for (int b = 0; b < n_; ++b)
       if (inactive[b]) grad_.segment<12>(12 * b).setZero();
     if (!grad_.allFinite()) throw SolverError("the gradient of Π is not finite");
     system_.add_blocks(blocks_);
+    // The KKT solves take rank-one rows as rows; the other solvers as blocks.
+    system_.add_rows(hessian_rows_, constrained);
     system_.finalize();
     d.time_assembly += lap.split();
     d.residual = grad_.cwiseAbs().maxCoeff();
 
-    const VecX rhs = -grad_;
-    std::vector<ConstraintRow> rows;
-    bool constrained = false;
-    for (int b = 0; b < n_ && !constraints_.empty(); ++b)
-      constrained = constrained || (jointed_[b] && !inactive[b]);
+    rhs_ = -grad_;
+    const VecX& rhs = rhs_;
+    std::vector<ConstraintRow>& rows = newton_rows_;
+    rows.clear();
     if (constrained) constraint_rows(x_, rows);
     LinearSolverKind kind = settings_.linear_solver;
     const bool per_body = kind == LinearSolverKind::kAuto && !system_.coupled() && !constrained;
