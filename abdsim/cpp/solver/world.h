@@ -231,7 +231,7 @@ class World {
   BlockSystem system_;
   std::vector<BodyBlock> blocks_;
   std::vector<HessianRow> hessian_rows_;
-  std::vector<ConstraintRow> newton_rows_;
+  std::vector<ConstraintRow> newton_rows_, projection_rows_;
   VecX rhs_;
   // remember_gap: the gap, the state and the kinematic flags it was measured with.
   double gap_ = 0.0;

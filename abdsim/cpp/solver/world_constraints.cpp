@@ -50,9 +50,7 @@ void World::join_constrained_islands(std::vector<unsigned char>& near) {
 // rows otherwise.
 void World::project_constraints() {
   if (constraints_.empty()) return;
-  std::vector<ConstraintRow> rows;
-  std::vector<std::uint8_t> fixed(n_);
-  for (int b = 0; b < n_; ++b) fixed[b] = !jointed_[b];
+  std::vector<ConstraintRow>& rows = projection_rows_;  // kept: no reallocation per call
   auto worst = [&]() {
     double w = 0.0;
     for (const ConstraintRow& r : rows) {
@@ -63,6 +61,9 @@ void World::project_constraints() {
     return w;
   };
   constraint_rows(x_, rows);
+  if (!(worst() > kProjectionTolerance)) return;
+  std::vector<std::uint8_t> fixed(n_);
+  for (int b = 0; b < n_; ++b) fixed[b] = !jointed_[b];
   VecX dx;
   const VecX zero = VecX::Zero(12 * n_);
   for (int k = 0; k < kMaxProjections && worst() > kProjectionTolerance; ++k) {
