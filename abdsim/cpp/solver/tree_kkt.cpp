@@ -183,9 +183,11 @@ bool TreeKkt::factor_node(int b) {
   if (node.parent < 0) return true;
   Node& parent = nodes_[node.parent];
   // Qᵀ = (W V − J_P)ᵀ, then L_S⁻¹ applied to Q (its columns, Qᵀ's rows).
-  Mat12 Qt = -node.JPt;
+  Mat12& Qt = node.Qt;
+  Qt = -node.JPt;
   if (node.coupling) {
-    Mat12 V = *node.coupling;
+    Mat12& V = node.V;
+    V = *node.coupling;
     dense::lower_solve(node.L, node.L_inv_diagonal, V);
     if (m > 0) Qt.noalias() += V.transpose() * node.W.transpose();
     dense::subtract_gram(V, parent.L);
@@ -273,21 +275,25 @@ bool TreeKkt::solve(const BlockSystem& system, const std::vector<ConstraintRow>&
     if (!factor_node(*it)) return false;
 
   x.setZero(12 * system.num_bodies());
-  Vec12 w, t, a, jp;
+  Vec12 w, lambda;
   for (const int b : order_) {
     const Node& node = nodes_[b];
     if (node.parent < 0) {
       x.segment<12>(12 * b) = node.yx;
       continue;
     }
-    // u_b = y_b − K_b⁻¹ C_b x_P, C_b x_P = [H_bP x_P; J_P x_P].
+    // u_b = y_b − K_b⁻¹ C_b x_P, K_b⁻¹ C_b x_P = L⁻ᵀ (V x_P − Wᵀ λ), λ = L_S⁻ᵀ Q x_P.
     const Vec12 xp = x.segment<12>(12 * node.parent);
     if (node.coupling)
-      a.noalias() = *node.coupling * xp;
+      w.noalias() = node.V.lazyProduct(xp);
     else
-      a.setZero();
-    jp.noalias() = -node.JPt.transpose().lazyProduct(xp);
-    solve_node(node, a, jp, w, t);
+      w.setZero();
+    if (node.m > 0) {
+      lambda.noalias() = node.Qt.transpose().lazyProduct(xp);
+      dense::upper_solve(node.LS, node.LS_inv_diagonal, lambda, node.m);
+      w.noalias() -= node.W.transpose().lazyProduct(lambda);
+    }
+    dense::upper_solve(node.L, node.L_inv_diagonal, w);
     x.segment<12>(12 * b) = node.yx - w;
   }
   return x.allFinite();

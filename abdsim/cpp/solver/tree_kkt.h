@@ -15,7 +15,7 @@
 // H_PP −= C_bᵀ K_b⁻¹ C_b and z_P −= C_bᵀ y_b; back-substitution from the roots:
 // u_b = y_b − K_b⁻¹ C_b x_P. With H_bb = L Lᵀ, W = J L⁻ᵀ and S = W Wᵀ + D = L_S L_Sᵀ,
 // C_bᵀ K_b⁻¹ C_b = VᵀV − QᵀQ for V = L⁻¹ H_bP and Q = L_S⁻¹ (W V − J_P): two symmetric
-// products, and K_b⁻¹ C_b is only ever applied to a vector. A soft row instead of a dense
+// products; K_b⁻¹ C_b x_P = L⁻ᵀ (V x_P − Wᵀ L_S⁻ᵀ Q x_P) reuses V and Q. A soft row instead of a dense
 // coupling block makes V = 0: a rank-one update per row instead of 12x12 products.
 //
 // Sizes are fixed (12 unknowns, at most 12 rows per node) and the kernels are written for
@@ -60,6 +60,8 @@ class TreeKkt {
     Mat12 LS;                         // Cholesky factor of S = W Wᵀ + D
     Vec12 LS_inv_diagonal;
     Vec12 yx, yl;                     // y_b = K_b⁻¹ z_b: x part, λ part
+    Mat12 V;                          // L⁻¹ H_bP (with a coupling)
+    Mat12 Qt;                         // Qᵀ, Q = L_S⁻¹ (W V − J_P); V, Qt: back-substitution
   };
   // The forest of the rows' and couplings' bodies: parents, order_ (roots first) and which
   // rows each node carries. False when it has a loop or a node carries too many hard rows.
