@@ -15,7 +15,8 @@ abdsim's joint coordinates (``world.joint_positions()``/``joint_velocities()``, 
   the body frame.
 
 Entries of joints that are not in the scene (on bodies without geometry) keep their loaded
-values.
+values. A body on several MJCF joints hangs from joint frames (``bridges/_joint_frames.py``):
+each of its joints is still one abdsim joint, and ``set_world_state`` places the frames too.
 """
 
 from __future__ import annotations
