@@ -83,10 +83,14 @@ def validate(
             a deliberately wrong model, to see the harness catch it.
         floating: a URDF robot gets a floating base and is dropped on the ground
             (``robot_drop``) instead of released from a fixed base (``robot_validation``).
+            An MJCF robot whose root has a free joint is always dropped (``robot_drop_mjcf``:
+            the file's own actuators, stance and floor).
         robot: options of a URDF robot's run: ``q`` (Pinocchio configuration), ``kappa``,
             wrong models ``perturb_mass`` {link: factor}, ``perturb_anchor`` {joint: m},
             ``perturb_axis`` {joint: rad}, ``settings`` (abdsim scene settings); dropped
-            robots also ``kp``, ``kv``, ``drop_height``, ``friction`` and ``self_contact``.
+            robots also ``kp``, ``kv``, ``drop_height``, ``friction`` and ``self_contact``; a
+            floating MJCF robot takes ``kappa``, ``drop_height``, the wrong models and
+            ``settings``.
 
     Raises:
         ValueError: unknown file type, a model MuJoCo or Pinocchio rejects, a scene with
@@ -127,11 +131,11 @@ def validate(
     model = load_model(path)
     if has_joints_only(model):  # an articulation: joint trajectories
         return validate_joints(path, duration, dt, out_dir, tol, integrator, sample_dt)
-    limb = floating_articulation(model)
-    if limb is not None:  # its free-body comparison would hold the limbs as puppets
-        raise ValueError(
-            f"{path}: a floating robot (joint {limb!r} hangs below a free body) is not "
-            "compared from MJCF yet; validate its URDF with --floating"
+    if floating_articulation(model) is not None:  # a floating robot: dropped (robot_drop)
+        from abdsim.validation.robot_drop import validate_drop
+
+        return validate_drop(
+            path, duration, dt, out_dir, tol, integrator, sample_dt, **(robot or {})
         )
 
     t_start = time.perf_counter()

@@ -1,6 +1,8 @@
 """``abdsim validate robot.urdf --floating``: a floating robot (free-flyer root) dropped onto
 the ground with position actuators on every 1-dof joint holding its stance, against MuJoCo on
-the same URDF (free joint, floor, the same actuators and gains, ``robot_mujoco``).
+the same URDF (free joint, floor, the same actuators and gains, ``robot_mujoco``). An MJCF
+robot whose root has a free joint is dropped the same way with its file's own model on both
+sides (``robot_drop_mjcf``).
 
 The robot starts at rest in its stance (the SRDF's ``standing`` state when the robot's
 ``srdf/`` folder has one, else Pinocchio's neutral inside the limits), lifted so that its
@@ -49,9 +51,11 @@ def standing_configuration(urdf: Path, model) -> tuple[np.ndarray, str]:
 
 
 def lowest_point(result) -> float:
-    """Height of the lowest vertex of a loaded robot."""
+    """Height of the lowest vertex of a loaded robot (its moving bodies)."""
     low = np.inf
     for body in result.bodies:
+        if body.kind == "fixed":  # an MJCF file's scenery
+            continue
         T = body.transform
         z = np.asarray(body.geometry.positions) @ T[2, :3] + T[2, 3]
         low = min(low, float(z.min()))
@@ -82,11 +86,17 @@ class DropSetup:
     q_load: np.ndarray  #: joint coordinates at load (abdsim's zero), scene joint order
     names: list[str]
     mj_q: np.ndarray
-    kp: float
-    kv: float
+    kp: float | None  #: None: the MJCF file's own actuators
+    kv: float | None
     stance: str
     mj_path: Path
     notes: list[str]  #: what the MuJoCo twin changed
+    world_q: np.ndarray | None = None  #: ``names``' entries of world.joint_positions()
+
+    def joint_positions(self) -> np.ndarray:
+        """abdsim's compared joint coordinates, absolute (MuJoCo's convention)."""
+        q = self.world.joint_positions()
+        return self.q_load + (q[self.world_q] if self.world_q is not None else q[: len(self.names)])
 
 
 def drop_setup(
@@ -183,8 +193,16 @@ def drop_setup(
     mujoco.mj_forward(mj, data)
     return DropSetup(
         result, scene, world, mj, data, base, root, q_load, jm.names, jm.mj_q, kp, kv,
-        stance, mj_path, mj_notes,
+        stance, mj_path, [_twin_note(mj_path)] + mj_notes,
     )  # fmt: skip
+
+
+def _twin_note(mj_path: Path) -> str:
+    return (
+        f"{mj_path.name} (beside this report) is the URDF as MuJoCo compiled it, with a free "
+        "joint on its root, a floor and position actuators; only robot–floor contacts in "
+        "MuJoCo (and in abdsim unless self_contact)"
+    )
 
 
 class _JointsOnly:
@@ -220,17 +238,20 @@ def validate_drop(
 ):
     """Drop and compare (see the module); a ``ValidationResult``. ``options`` go to
     ``drop_setup`` (q, drop_height, kp, kv, kappa, perturb_mass / _anchor / _axis,
-    settings)."""
+    settings), or for an MJCF robot with a free root to ``robot_drop_mjcf.mjcf_drop_setup``
+    (the file's own actuators, stance and floor)."""
     import mujoco
 
     from abdsim.validation import plots
     from abdsim.validation.harness import ValidationResult, metrics_head
+    from abdsim.validation.robot_drop_mjcf import mjcf_drop_setup
     from abdsim.validation.robot_gap import coal_gaps
     from abdsim.validation.robot_setup import JointFrames
     from abdsim.validation.robot_validation import write_robot_report
 
     t_start = time.perf_counter()
-    s = drop_setup(path, out_dir, dt, integrator, **options)
+    mjcf = path.suffix.lower() in (".xml", ".mjcf")
+    s = (mjcf_drop_setup if mjcf else drop_setup)(path, out_dir, dt, integrator, **options)
     world, mj, data = s.world, s.mj_model, s.mj_data
     frames = JointFrames(s.result)
     n_steps = int(round(duration / dt))
@@ -246,7 +267,7 @@ def validate_drop(
         rows["t"].append(t)
         rows["z"].append(world.transforms()[s.base][2, 3])
         rows["z_mj"].append(data.xpos[s.mj_base][2])
-        rows["q"].append(s.q_load + world.joint_positions()[: len(s.names)])
+        rows["q"].append(s.joint_positions())
         rows["q_mj"].append(data.qpos[s.mj_q].copy())
 
     table = s.scene.contact_table
@@ -316,7 +337,7 @@ def validate_drop(
             kp=s.kp,
             kv=s.kv,
             drop_height=float(options.get("drop_height", 0.05)),
-            friction=float(options.get("friction", FRICTION)),
+            friction=None if mjcf else float(options.get("friction", FRICTION)),
             stance=s.stance,
             self_contact=bool(options.get("self_contact", False)),
             **{k: options.get(k) or {} for k in ("perturb_mass", "perturb_anchor", "perturb_axis")},
@@ -338,12 +359,7 @@ def validate_drop(
         "free_flight": {},
         "timing": timing(wall, n_steps, time.perf_counter() - t_start),
         "files": files,
-        "notes": [
-            f"{s.mj_path.name} (beside this report) is the URDF as MuJoCo compiled it, with a "
-            "free joint on its root, a floor and position actuators; only robot–floor "
-            "contacts in MuJoCo (and in abdsim unless self_contact)",
-            f"stance: {s.stance}; MuJoCo's largest penetration {penetration:.3g} m",
-        ]
+        "notes": [f"stance: {s.stance}; MuJoCo's largest penetration {penetration:.3g} m"]
         + s.notes
         + list(s.result.notes),
     }

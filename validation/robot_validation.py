@@ -262,9 +262,14 @@ def write_robot_report(path: Path, metrics: dict, checks: list[Check]) -> Path:
             "control, without contact"
         )
     else:
+        held = (
+            f"position actuators (kp = {s['kp']:.3g}, kv = {s['kv']:.3g})"
+            if s.get("kp") is not None
+            else "the file's actuators"
+        )
         what = (
             f"the floating robot dropped {s['drop_height'] * 100:g} cm onto the ground under "
-            f"position actuators (kp = {s['kp']:.3g}, kv = {s['kv']:.3g}) holding its stance, "
+            f"{held} holding its stance, "
             f"abdsim ({s['integrator'].upper()}, κ = {s['kappa']:g} Pa) against MuJoCo "
             f"({s['mujoco_integrator']})"
         )

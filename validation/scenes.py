@@ -17,13 +17,15 @@ def default_scene() -> Path:
 
 #: Every bundled scene: free bodies in contact, bodies starting at rest on the ground, the
 #: loaders' example (free bodies and a hinged paddle that abdsim holds kinematic; its
-#: short contacts are found from every step, not from samples) and the jointed double
-#: pendulum (its hinges as exact joints).
+#: short contacts are found from every step, not from samples), the jointed double
+#: pendulum (its hinges as exact joints) and a floating quadruped (dropped on its floor
+#: under its position actuators: robot_drop_mjcf).
 VALIDATION_SCENES = (
     "tossed_bodies.xml",
     "resting_bodies.xml",
     "free_bodies.xml",
     "double_pendulum.xml",
+    "quadruped.xml",
 )
 
 

@@ -30,16 +30,8 @@ def test_a_tight_velocity_tolerance_fails_and_names_the_joints(tmp_path):
     }
 
 
-def test_a_floating_mjcf_robot_is_refused_by_name(tmp_path):
-    """Its limbs would be puppets in the free-body comparison: a clear error instead."""
-    xml = """<mujoco><worldbody><geom type="plane" size="1 1 .1"/>
-      <body name="torso" pos="0 0 1"><freejoint/><geom type="box" size=".1 .1 .1"/>
-        <body name="leg" pos="0 0 -0.1"><joint name="hip" type="hinge"/>
-          <geom type="box" size=".02 .02 .1" pos="0 0 -.1"/></body></body>
-      </worldbody></mujoco>"""
-    path = tmp_path / "floating.xml"
-    path.write_text(xml)
-    with pytest.raises(ValueError, match="joint 'hip' hangs below a free body"):
-        validate(path, out=tmp_path / "out", progress=False)
+def test_floating_is_for_urdf_robots(tmp_path):
+    """An MJCF robot with a free root is dropped without --floating
+    (test_robot_drop_mjcf.py); the flag itself is the URDF's."""
     with pytest.raises(ValueError, match="--floating applies to URDF robots"):
         validate(SCENE, out=tmp_path / "out", progress=False, floating=True)
