@@ -12,13 +12,15 @@ iteration count per step, abdsim's smallest contact gap (d − ξ over the activ
 step: > 0 means no intersection) and MuJoCo's largest penetration (−min contact.dist).
 
 --profile adds where abdsim's time goes (StepDiagnostics' timers, summed over the run):
-Newton iterations per step, line-search cuts (by the CCD bound vs by Armijo halvings),
-assembly, linear solve (symbolic analysis + numeric factorisation), CCD step bounds, line
-search energies, contact set updates, broad phase (inside the last three), and the cost of
-one Newton iteration. The timers cover the accepted solve only: a step whose result was
-rejected (its straight-line motion crosses contact, or Newton failed) and redone in substeps
-spends the rest of its time in the rejected attempts, so the profile also gives the steps
-redone in substeps and their share of the wall time, and the time outside the timers.
+Newton iterations per step (with a histogram: the steps in each range of iterations and
+their share of all iterations, and where the > 50-iteration tail lies in the run),
+line-search cuts (by the CCD bound vs by Armijo halvings), assembly, linear solve (symbolic
+analysis + numeric factorisation), CCD step bounds, line search energies, contact set
+updates, broad phase (inside the last three), and the cost of one Newton iteration. The
+timers cover the accepted solve only: a step whose result was rejected (its straight-line
+motion crosses contact, or Newton failed) and redone in substeps spends the rest of its time
+in the rejected attempts, so the profile also gives the steps redone in substeps and their
+share of the wall time, and the time outside the timers.
 
 Usage: python benchmarks/contact_heap.py [--quick] [--sizes 27 100 500] [--no-bin] [--profile]
 """
@@ -224,6 +226,7 @@ def run_abdsim(scene_kind: str, n: int, steps: int) -> dict:
         "newton_max": int(np.max(iterations)),
         "min_gap": gap,
         "iterations": int(np.sum(iterations)),
+        "per_step": np.asarray(iterations),
         "profile": profile,
     }
 
@@ -260,6 +263,30 @@ def print_profile(a: dict, steps: int) -> None:
         f"in substeps {p['substep_steps']:.0f} ({share:.0f}% of the wall time)"
     )
     print(f"      per Newton iteration {1e3 * p['step'] / iters:.2f} ms")
+    print_histogram(a["per_step"])
+
+
+# Bins of the per-step Newton iteration histogram (--profile): the tail (> 50) is split out
+# because a few such steps can hold most of the run's iterations.
+HISTOGRAM_EDGES = (0, 5, 10, 20, 50, 100, 200, 10**9)
+
+
+def print_histogram(per_step: np.ndarray) -> None:
+    """Steps per bin of Newton iterations, each bin's share of all iterations, and where in
+    the run the tail steps (> 50 iterations) lie."""
+    total = max(int(per_step.sum()), 1)
+    cells = []
+    for lo, hi in zip(HISTOGRAM_EDGES[:-1], HISTOGRAM_EDGES[1:], strict=True):
+        inside = per_step[(per_step > lo) & (per_step <= hi)]
+        label = f"{lo + 1}-{hi}" if hi < 10**9 else f">{lo}"
+        cells.append(f"{label}: {len(inside)} ({100 * inside.sum() / total:.0f}%)")
+    print(f"      steps by Newton iterations (share of all iterations): {'  '.join(cells)}")
+    tail = np.flatnonzero(per_step > 50)
+    if len(tail):
+        print(
+            f"      mean {per_step.mean():.1f}; steps with > 50 iterations: {len(tail)}, from "
+            f"step {tail[0]} to {tail[-1]}"
+        )
 
 
 def main() -> None:
