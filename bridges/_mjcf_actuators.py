@@ -48,7 +48,8 @@ class ActuatorInfo:
         body: the loaded body a site actuator pushes.
         site_pos, site_rot: the site's pose in that body's frame (site actuators).
         gear6: MuJoCo's 6-vector gear, in the site frame (site actuators).
-        gain, bias: ``gain·u + bias`` is a site actuator's force before ``force_range``.
+        gain, bias: ``gain·u + bias`` is a site actuator's force before ``force_range``; a joint
+            actuator's constant force (MuJoCo's b0 plus b1·L at the loaded pose, over s).
     """
 
     name: str
@@ -79,13 +80,12 @@ def _scaled_range(r: tuple[float, float] | None, s: float) -> tuple[float, float
     return (min(a, b), max(a, b))
 
 
-def _joint_preset(g: float, b0: float, b1: float, b2: float) -> tuple[str, float, float, float]:
-    """(kind, s, kp, kv) of the abdsim preset equal to ``g·u + b0 + b1·L + b2·L̇``, or raise
-    ValueError saying why there is none."""
+def _joint_preset(g: float, b1: float, b2: float) -> tuple[str, float, float, float]:
+    """(kind, s, kp, kv) of the abdsim preset equal to ``g·u + b1·L + b2·L̇`` (its force is
+    MuJoCo's over s; the constant b0 becomes abdsim's ``bias``), or raise ValueError saying why
+    there is none."""
     if g == 0.0:
         raise ValueError("its gain is zero (a bias-only actuator)")
-    if b0 != 0.0:
-        raise ValueError(f"a constant bias b0 = {b0:g} has no abdsim actuator preset")
     if b1 > 0.0 or b2 > 0.0:
         raise ValueError(f"a destabilising bias (b1 = {b1:g}, b2 = {b2:g}) is not modelled")
     if b1 < 0.0:
@@ -106,9 +106,11 @@ def _site_pose_in_body(loader_pose, model, site: int, root: int) -> tuple[np.nda
     return X[:3, 3].copy(), X[:3, :3].copy()
 
 
-def read_actuators(mujoco, model, source_map, body_pose_in_root, loaded_joints, notes):
+def read_actuators(mujoco, model, qpos, source_map, body_pose_in_root, loaded_joints, notes):
     """The actuators abdsim models (MuJoCo order) and a note for every one it does not.
 
+    ``qpos``: the loaded configuration (abdsim's joint coordinates are 0 there, MuJoCo's
+    actuator length is gear·qpos: the difference b1·L0 joins the constant bias);
     ``source_map``: weld-root body id -> loaded body index; ``body_pose_in_root(b, root)``: a
     body's pose in its weld root's frame; ``loaded_joints``: names of the joints that became
     abdsim joints (the others' actuators are left out with a note).
@@ -149,15 +151,17 @@ def read_actuators(mujoco, model, source_map, body_pose_in_root, loaded_joints, 
                 why = f"its joint {joint!r} is not an abdsim joint of this scene"
             else:
                 try:
-                    kind, s, kp, kv = _joint_preset(g, b0, b1, b2)
+                    kind, s, kp, kv = _joint_preset(g, b1, b2)
                 except ValueError as e:
                     why = str(e)
                 else:
-                    gear = float(model.actuator_gear[a, 0]) * coef * s
+                    length_gear = float(model.actuator_gear[a, 0]) * coef
+                    L0 = length_gear * float(qpos[model.jnt_qposadr[target]])
                     out.append(
                         ActuatorInfo(
-                            name, a, kind, joint=joint, kp=kp, kv=kv, gear=gear,
+                            name, a, kind, joint=joint, kp=kp, kv=kv, gear=length_gear * s,
                             ctrl_range=ctrl_range, force_range=_scaled_range(force_range, s),
+                            bias=(b0 + b1 * L0) / s,
                         )
                     )  # fmt: skip
         elif trn == "site":
@@ -204,4 +208,5 @@ def add_actuators(scene, result) -> None:
             gear=info.gear,
             ctrl_range=info.ctrl_range,
             force_range=info.force_range,
+            bias=info.bias,
         )

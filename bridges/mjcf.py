@@ -145,7 +145,7 @@ def load_mjcf(
         exclude_touching_ground(bodies, grounds, rules, loader.notes)
         loaded = {j.name for j in joints if j.type in ("revolute", "prismatic")}
         actuators = read_actuators(
-            mujoco, model, source_map, loader.pose_in_root, loaded, loader.notes
+            mujoco, model, data.qpos, source_map, loader.pose_in_root, loaded, loader.notes
         )
         sensors = actuator_sensors(sensors, actuators, model, loader.notes)
     contact_damping = solref_damping(model, loader.notes)

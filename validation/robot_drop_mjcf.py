@@ -6,10 +6,10 @@ the robot's lowest point starts ``drop_height`` above the ground: only the free 
 changes (in the first keyframe, else the root body's position). Everything else is the
 file's: its keyframe (or ``qpos0``) stance, joint physics, contact filter and friction, floor,
 and actuators. The controls hold the stance: a position-like actuator (an affine bias with
-``b1 < 0``) gets the control whose target is the joint's loaded position, every other one
-zero. abdsim's actuator coordinates are relative to the loaded configuration and MuJoCo's
-absolute, so the same target is ``u_mj = −b1/g·L0`` in MuJoCo and ``u_mj − (−b1/g)·L0 = 0``
-in abdsim (``L0``: the actuator length at load); both are clamped to their control range.
+``b1 < 0``) gets the control whose target is the joint's loaded position, ``u = −b1/g·L0``
+(``L0``: the actuator length at load), clamped to its control range; every other one zero.
+Both simulators get the same controls: the loader folds ``b1·L0`` into abdsim's actuator bias,
+since abdsim's joint coordinates start at the loaded configuration.
 """
 
 from __future__ import annotations
@@ -80,18 +80,16 @@ def hold_controls(mj, data, result) -> tuple[np.ndarray, np.ndarray]:
     """(MuJoCo ctrl, abdsim ctrl in ``result.actuator_ids`` order) holding the loaded
     stance (see the module); ``data`` is at the loaded state."""
     u = np.zeros(mj.nu)
-    offset = np.zeros(mj.nu)  # the part of MuJoCo's control abdsim's relative joints lack
     for a in range(mj.nu):
         g = float(mj.actuator_gainprm[a, 0])
         b1 = float(mj.actuator_biasprm[a, 1])
         if int(mj.actuator_biastype[a]) != 1 or g == 0.0 or b1 >= 0.0:  # 1: mjBIAS_AFFINE
             continue
-        offset[a] = -b1 / g * float(data.actuator_length[a])
-        u[a] = offset[a]
+        u[a] = -b1 / g * float(data.actuator_length[a])
         if int(mj.actuator_ctrllimited[a]):
             u[a] = float(np.clip(u[a], *mj.actuator_ctrlrange[a]))
     ids = np.asarray(result.actuator_ids, dtype=int)
-    return u, u[ids] - offset[ids]
+    return u, u[ids].copy()
 
 
 def mjcf_drop_setup(
@@ -163,8 +161,7 @@ def mjcf_drop_setup(
         f"its lowest point starts {drop_height:g} m above the floor; both simulators load it, "
         "with the file's own actuators, contact filter and friction",
         f"controls holding the {'keyframe' if mj.nkey else 'qpos0'} stance: MuJoCo "
-        f"{np.round(data.ctrl, 4).tolist()}, abdsim {np.round(world.ctrl, 4).tolist()} "
-        "(its joint coordinates are relative to the loaded stance)",
+        f"{np.round(data.ctrl, 4).tolist()}, abdsim {np.round(world.ctrl, 4).tolist()}",
     ]
     if [j for j in scene.joints if j.kind not in ("revolute", "prismatic")]:
         notes.append("ball joints are simulated but not in the stance comparison")

@@ -11,7 +11,7 @@ from abdsim.sim.sensors import JOINT_TYPES, SensorSpec
 
 def actuator_force(a: ActuatorHandle, u: float, theta: float, rate: float) -> float:
     """MuJoCo's general actuator with the motor / position / velocity presets, as abdsim's
-    joint force term applies it: gain·u + b1·L + b2·L̇ with L = gear θ, the control and the
+    joint force term applies it: gain·u + b0 + b1·L + b2·L̇ with L = gear θ, the control and the
     force clamped to their ranges."""
     if a.ctrl_range is not None:
         u = float(np.clip(u, *a.ctrl_range))
@@ -20,7 +20,7 @@ def actuator_force(a: ActuatorHandle, u: float, theta: float, rate: float) -> fl
         gain, b1, b2 = a.kp, -a.kp, -a.kv
     elif a.kind == "velocity":
         gain, b2 = a.kv, -a.kv
-    force = gain * u + b1 * a.gear * theta + b2 * a.gear * rate
+    force = gain * u + a.bias + b1 * a.gear * theta + b2 * a.gear * rate
     if a.force_range is not None:
         force = float(np.clip(force, *a.force_range))
     return force

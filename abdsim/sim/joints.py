@@ -99,9 +99,11 @@ class ActuatorHandle:
     """One actuator of a scene (``Scene.add_actuator``); its control is ``world.ctrl[index]``.
 
     MuJoCo's ``general`` actuator with the motor / position / velocity presets, acting on a
-    1-dof joint: force = gain·u + b1·gear·θ + b2·gear·θ̇ (motor: 1, 0, 0; position: kp, −kp,
-    −kv; velocity: kv, 0, −kv), clamped to ``force_range``; the joint gets gear·force. The
-    control u is clamped to ``ctrl_range``.
+    1-dof joint: force = gain·u + bias + b1·gear·θ + b2·gear·θ̇ (motor: 1, 0, 0; position: kp,
+    −kp, −kv; velocity: kv, 0, −kv), clamped to ``force_range``; the joint gets gear·force. The
+    control u is clamped to ``ctrl_range``. ``bias`` is a constant force (MuJoCo's ``biasprm[0]``);
+    a position actuator whose target is measured from somewhere other than the joint's loaded
+    position (θ = 0) takes ``bias = −kp·gear·θ_offset``.
     """
 
     index: int
@@ -112,6 +114,17 @@ class ActuatorHandle:
     gear: float = 1.0
     ctrl_range: tuple[float, float] | None = None
     force_range: tuple[float, float] | None = None
+    bias: float = 0.0
+
+
+def _finite(who: str, what: str, value: Any) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{who}: {what} must be a number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise ValueError(f"{who}: {what} must be finite, got {value!r}")
+    return v
 
 
 def _range(who: str, what: str, value: Any) -> tuple[float, float] | None:
@@ -135,6 +148,7 @@ def make_actuator(
     gear: float,
     ctrl_range: Any,
     force_range: Any,
+    bias: float = 0.0,
 ) -> ActuatorHandle:
     """Checks one actuator (ValueError naming it and its joint) and returns its handle."""
     who = f"actuator {index} on joint '{joint.name}'"
@@ -154,6 +168,7 @@ def make_actuator(
         gear=gear,
         ctrl_range=_range(who, "ctrl_range", ctrl_range),
         force_range=_range(who, "force_range", force_range),
+        bias=_finite(who, "bias", bias),
     )
 
 

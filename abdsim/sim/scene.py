@@ -398,13 +398,15 @@ class Scene:
         gear: float = 1.0,
         ctrl_range: tuple[float, float] | None = None,
         force_range: tuple[float, float] | None = None,
+        bias: float = 0.0,
     ) -> ActuatorHandle:
         """Drive a revolute or prismatic joint like MuJoCo's motor / position / velocity
-        actuator (see ``ActuatorHandle``); its control is ``world.ctrl[handle.index]``.
+        actuator (see ``ActuatorHandle``); its control is ``world.ctrl[handle.index]``;
+        ``bias`` is a constant force added before the force range (MuJoCo's ``biasprm[0]``).
 
         Raises:
             ValueError naming the actuator and joint: unknown kind or joint, a joint that is
-                not 1-dof, negative gains, zero gear, a range with lower > upper.
+                not 1-dof, negative gains, zero gear, a non-finite bias, a range with lower > upper.
         """
         if isinstance(joint, JointHandle):
             if joint.index >= len(self._joints) or self._joints[joint.index] is not joint:
@@ -419,7 +421,7 @@ class Scene:
         else:
             raise ValueError(f"unknown joint {joint!r}")
         handle = make_actuator(
-            len(self._actuators), joint, kind, kp, kv, gear, ctrl_range, force_range
+            len(self._actuators), joint, kind, kp, kv, gear, ctrl_range, force_range, bias
         )
         self._actuators.append(handle)
         return handle

@@ -292,7 +292,7 @@ class World:
             for a in scene.actuators:
                 spec = _core.ActuatorSpec()
                 spec.joint, spec.kind = a.joint, getattr(_core.ActuatorKind, a.kind)
-                spec.kp, spec.kv, spec.gear = a.kp, a.kv, a.gear
+                spec.kp, spec.kv, spec.gear, spec.bias = a.kp, a.kv, a.gear, a.bias
                 if a.ctrl_range is not None:
                     spec.ctrl_limited = True
                     spec.ctrl_lower, spec.ctrl_upper = a.ctrl_range

@@ -92,6 +92,8 @@ def test_bad_actuators_and_physics_name_the_joint():
         (dict(gear=0.0), "gear must be finite and non-zero"),
         (dict(ctrl_range=(1.0, -1.0)), "ctrl_range must have lower <= upper"),
         (dict(force_range=(2.0, 1.0)), "force_range must have lower <= upper"),
+        (dict(bias=float("nan")), "bias must be finite"),
+        (dict(bias="push"), "bias must be a number"),
     ]:
         with pytest.raises(ValueError, match=f"joint 'knee'.*{message}"):
             scene2.add_actuator(hinge, **kwargs)

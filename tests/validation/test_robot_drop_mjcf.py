@@ -53,7 +53,7 @@ def test_quadruped_stands_like_mujoco_after_one_second(tmp_path):
     for name in ("base_height.png", "joints.png", "quadruped_drop.xml", "report.md"):
         assert (tmp_path / name).is_file(), name
     notes = "\n".join(res.metrics["notes"])
-    assert "MuJoCo [0.5, -1.0, 0.5, -1.0" in notes and "abdsim [0.0, 0.0" in notes
+    assert "MuJoCo [0.5, -1.0, 0.5, -1.0" in notes and "abdsim [0.5, -1.0" in notes
 
 
 def test_the_twin_lifts_only_the_root_to_the_drop_height(tmp_path):
@@ -98,8 +98,9 @@ def test_every_drop_check_fails_on_a_broken_setting_or_a_wrong_model(tmp_path):
 
 def test_hold_controls_keep_a_keyframe_stance_in_both(tmp_path):
     """A general affine servo (gain 30, bias -45·L - 3·L̇, gear 2) and a motor, loaded at a
-    keyframe: MuJoCo's actuator force is zero at its hold control; abdsim, given its own hold
-    control (zero), keeps the joints where they loaded, given MuJoCo's it does not."""
+    keyframe: MuJoCo's actuator force is zero at its hold control, and the same control keeps
+    abdsim's joints where they loaded; control 0 pulls the servo's joint like MuJoCo's (the
+    loader folds b1·L0 into abdsim's actuator bias)."""
     import mujoco
 
     from abdsim.bridges import load_mjcf
@@ -124,7 +125,7 @@ def test_hold_controls_keep_a_keyframe_stance_in_both(tmp_path):
     mujoco.mj_forward(mj, data)
     u_mj, u_abd = hold_controls(mj, data, result)
     assert u_mj == pytest.approx([45.0 / 30.0 * 2 * 0.5, 0.0])  # -b1/g · gear · q0
-    assert u_abd == pytest.approx([0.0, 0.0])
+    assert u_abd == pytest.approx(u_mj)
     data.ctrl[:] = u_mj
     mujoco.mj_forward(mj, data)
     assert data.actuator_force == pytest.approx([0.0, 0.0], abs=1e-12)
@@ -136,7 +137,7 @@ def test_hold_controls_keep_a_keyframe_stance_in_both(tmp_path):
         return float(world.joint_positions()[0])
 
     assert abs(hip_after(u_abd)) < 1e-9  # no force: it stays at the loaded 0.5 rad
-    assert abs(hip_after(u_mj)) > 0.05  # MuJoCo's absolute target, read as relative
+    assert hip_after([0.0, 0.0]) < -0.05  # target 0 rad: pulled back from 0.5
 
 
 def test_a_robot_without_actuators_falls_with_zero_control(tmp_path):

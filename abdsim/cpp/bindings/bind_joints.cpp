@@ -85,6 +85,7 @@ void bind_joints(py::module_& m) {
       .def_readwrite("kp", &ActuatorSpec::kp)
       .def_readwrite("kv", &ActuatorSpec::kv)
       .def_readwrite("gear", &ActuatorSpec::gear)
+      .def_readwrite("bias", &ActuatorSpec::bias)
       .def_readwrite("ctrl_limited", &ActuatorSpec::ctrl_limited)
       .def_readwrite("ctrl_lower", &ActuatorSpec::ctrl_lower)
       .def_readwrite("ctrl_upper", &ActuatorSpec::ctrl_upper)

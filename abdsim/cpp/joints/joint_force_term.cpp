@@ -130,7 +130,7 @@ void JointForceTerm::begin_step(const StepContext& ctx) {
     e.kappa = e.inertia / (c_ * c_);
     e.at_limit_start = e.at_limit = at_limit(e, theta);
   }
-  // Actuator force = gain·u + b1·L + b2·L̇ with L = gear θ, L̇ = gear (θ − θ̂)/c (MuJoCo's
+  // Actuator force = gain·u + b0 + b1·L + b2·L̇ with L = gear θ, L̇ = gear (θ − θ̂)/c (MuJoCo's
   // general actuator with the motor / position / velocity presets), as F0 + F1 θ.
   for (std::size_t a = 0; a < actuators_.size(); ++a) {
     const ActuatorSpec& s = actuators_[a];
@@ -147,7 +147,7 @@ void JointForceTerm::begin_step(const StepContext& ctx) {
     }
     const int el = element_of_joint_[s.joint];
     const double theta_hat = elements_[el].theta_hat;
-    act_F0_[a] = gain * u - b2 * s.gear * theta_hat / c_;
+    act_F0_[a] = gain * u + s.bias - b2 * s.gear * theta_hat / c_;
     act_F1_[a] = s.gear * (b1 + b2 / c_);
   }
 }

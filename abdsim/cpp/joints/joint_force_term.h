@@ -33,6 +33,9 @@ struct ActuatorSpec {
   double kp = 0.0;
   double kv = 0.0;
   double gear = 1.0;
+  // Constant force b0 (MuJoCo's biasprm[0]; a loader also folds b1·L at the loaded pose into it,
+  // since joint coordinates start at 0 where the source's start at the loaded qpos).
+  double bias = 0.0;
   bool ctrl_limited = false;
   double ctrl_lower = 0.0, ctrl_upper = 0.0;
   bool force_limited = false;
