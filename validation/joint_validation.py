@@ -101,6 +101,7 @@ def validate_joints(
     model = mujoco.MjModel.from_xml_path(str(path))
     model.opt.timestep = dt
     model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)  # as abdsim's side
     data = mujoco.MjData(model)
     if model.nkey > 0:
         mujoco.mj_resetDataKeyframe(model, data, 0)
