@@ -6,7 +6,8 @@
 // the affine map is bounded in O(1) (bvh_traversal.h, TreeBoxes), so trees normally stay at
 // rest and are never refit (the broad phase recovers A and p, affine_frame.h). A body whose
 // map cannot be recovered is refit to world-space positions instead (O(n), tree topology
-// kept; ABD bodies stay near-rigid, so the rest-shape topology stays a good tree). We use coal's beginUpdateModel/updateSubModel/endUpdateModel, which
+// kept; ABD bodies stay near-rigid, so the rest-shape topology stays a good tree). We use
+// coal's beginUpdateModel/updateSubModel/endUpdateModel, which
 // keeps the previous frame and fits each box around the primitive in both frames: updating
 // to x0 then to x1 bounds the straight motion x0 → x1 (a linearly moving simplex stays in the
 // convex hull of its end positions), and updating twice to x bounds x alone. (coal refuses

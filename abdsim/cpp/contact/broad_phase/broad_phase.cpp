@@ -55,15 +55,20 @@ Candidates BroadPhase::query_swept(const std::vector<Vec3>& x0, const std::vecto
   return collect(x0, &x1, q);
 }
 
-void BroadPhase::fit(int b) {
-  if (fitted_[b]) return;
-  fitted_[b] = 1;
+bool BroadPhase::map_affine(int b) {
+  if (fitted_[b]) return affine_[b];
   const Vec3* first0 = x0_->data() + mesh_.vertex_offset[b];
   const Vec3* first1 = x1_ ? x1_->data() + mesh_.vertex_offset[b] : nullptr;
   // Once refit, a body's trees are no longer at rest: it stays on the refit path.
   affine_[b] = bvhs_[b]->at_rest() && frames_[b].recover(first0, map0_[b]) &&
                (!first1 || frames_[b].recover(first1, map1_[b]));
-  if (affine_[b]) return;
+  fitted_[b] = affine_[b];
+  return affine_[b];
+}
+
+void BroadPhase::fit(int b) {
+  if (fitted_[b] || map_affine(b)) return;
+  fitted_[b] = 1;
   if (x1_)
     bvhs_[b]->refit_swept(body_slice(*x0_, b), body_slice(*x1_, b));
   else
@@ -96,6 +101,16 @@ Candidates BroadPhase::collect(const std::vector<Vec3>& x0, const std::vector<Ve
   // margin + r_a + r_b.
   std::vector<coal::AABB> boxes(static_cast<size_t>(n));
   for (int b = 0; b < n; ++b) {
+    const double grow = 0.5 * q.margin + mesh_.body_thickness[b];
+    if (map_affine(b)) {
+      // The image of the rest box: O(1) instead of a pass over the body's vertices.
+      const coal::AABB& rest = bvhs_[b]->vertices()->getBV(0).bv;
+      boxes[b] = affine_box(rest, map0_[b]);
+      if (x1) boxes[b] += affine_box(rest, map1_[b]);
+      boxes[b].min_.array() -= grow;
+      boxes[b].max_.array() += grow;
+      continue;
+    }
     Vec3 lo = x0[mesh_.vertex_offset[b]], hi = lo;
     for (int v = mesh_.vertex_offset[b]; v < mesh_.vertex_offset[b + 1]; ++v) {
       lo = lo.cwiseMin(x0[v]);
@@ -105,7 +120,6 @@ Candidates BroadPhase::collect(const std::vector<Vec3>& x0, const std::vector<Ve
         hi = hi.cwiseMax((*x1)[v]);
       }
     }
-    const double grow = 0.5 * q.margin + mesh_.body_thickness[b];
     boxes[b] = coal::AABB(Vec3(lo.array() - grow), Vec3(hi.array() + grow));
   }
   for (const auto& [a, b] : body_pairs_.overlapping(boxes))
@@ -120,16 +134,10 @@ Candidates BroadPhase::collect(const std::vector<Vec3>& x0, const std::vector<Ve
       collect_self(b, q.margin + 2.0 * mesh_.body_thickness[b], q, out);
     }
     const double z_max = q.ground_height + q.margin + mesh_.body_thickness[b];
-    // boxes[b].min_ z is the lowest vertex minus half the margin and the thickness. The
-    // ground needs no tree: a pass over the body's vertices (lowest of x0, x1) is what a
-    // refit plus a descent would cost anyway.
+    // boxes[b].min_ z is (at most) the lowest vertex minus half the margin and the thickness.
     if (q.ground && boxes[b].min_[2] + 0.5 * q.margin + mesh_.body_thickness[b] <= z_max &&
-        may_collide_(b, -1)) {
-      for (int v = mesh_.vertex_offset[b]; v < mesh_.vertex_offset[b + 1]; ++v) {
-        const double z = x1 ? std::min(x0[v].z(), (*x1)[v].z()) : x0[v].z();
-        if (z <= z_max) out.point_ground.push_back(v);
-      }
-    }
+        may_collide_(b, -1))
+      collect_ground(b, z_max, out);
   }
   sort_unique(out.point_triangle);
   sort_unique(out.edge_edge);
@@ -137,6 +145,34 @@ Candidates BroadPhase::collect(const std::vector<Vec3>& x0, const std::vector<Ve
   sort_unique(out.edge_triangle);
   x0_ = x1_ = nullptr;  // the caller's positions are not ours to keep
   return out;
+}
+
+void BroadPhase::collect_ground(int b, double z_max, Candidates& out) const {
+  const std::vector<Vec3>& x0 = *x0_;
+  const int first = mesh_.vertex_offset[b];
+  if (!affine_[b]) {  // a pass over the vertices (lowest of x0, x1) costs what a refit would
+    for (int v = first; v < mesh_.vertex_offset[b + 1]; ++v) {
+      const double z = x1_ ? std::min(x0[v].z(), (*x1_)[v].z()) : x0[v].z();
+      if (z <= z_max) out.point_ground.push_back(v);
+    }
+    return;
+  }
+  // Descend the vertex tree: only the nodes whose box reaches down to z_max (a leaf's box is
+  // its vertex, lowest of x0 and x1: the same test as the pass above).
+  const TreeBoxes t = tree_boxes(b, bvhs_[b]->vertices());
+  std::vector<int> stack{0};
+  while (!stack.empty()) {
+    const int i = stack.back();
+    stack.pop_back();
+    if (t.node(i).min_[2] > z_max) continue;
+    const auto& node = t.tree->getBV(unsigned(i));
+    if (node.isLeaf()) {
+      out.point_ground.push_back(first + node.primitiveId());
+    } else {
+      stack.push_back(node.rightChild());
+      stack.push_back(node.leftChild());
+    }
+  }
 }
 
 void BroadPhase::collect_pair(int a, int b, double margin, const BroadPhaseQuery& q,

@@ -55,13 +55,15 @@ class BroadPhase {
                          const BroadPhaseQuery& q);
 
  private:
-  // Body boxes come straight from the vertex positions; a body's affine maps are recovered
-  // (or, failing that, its three BVHs refit to x0, or swept x0 → x1) only when some pair,
-  // self-collision or the ground needs them, so bodies far from everything cost one pass
-  // over their vertices.
+  // Body boxes are the images of the rest boxes through the bodies' affine maps (recovered
+  // from a few vertices); a body without a map gets its box from a pass over its vertices,
+  // and its three BVHs are refit (to x0, or swept x0 → x1) only when some pair or
+  // self-collision needs them. The ground descends the vertex tree of the bodies near it.
   Candidates collect(const std::vector<Vec3>& x0, const std::vector<Vec3>* x1,
                      const BroadPhaseQuery& q);
+  bool map_affine(int b);  // recovers b's maps (once per query); false: b must be refit
   void fit(int b);
+  void collect_ground(int b, double z_max, Candidates& out) const;
   TreeBoxes tree_boxes(int b, const Bvh* tree) const;
   void collect_pair(int a, int b, double margin, const BroadPhaseQuery& q, Candidates& out) const;
   void collect_self(int a, double margin, const BroadPhaseQuery& q, Candidates& out) const;

@@ -8,13 +8,6 @@ namespace {
 
 double extent(const coal::AABB& box) { return (box.max_ - box.min_).sum(); }
 
-coal::AABB image(const coal::AABB& rest, const AffineMap& m) {
-  const Vec3 c = 0.5 * (rest.min_ + rest.max_), h = 0.5 * (rest.max_ - rest.min_);
-  const Vec3 wc = m.A * c + m.p;
-  const Vec3 wh = m.A.cwiseAbs() * h + Vec3::Constant(m.pad);
-  return coal::AABB(Vec3(wc - wh), Vec3(wc + wh));
-}
-
 void add_vertices(coal::AABB& box, const Vec3* x, const coal::Triangle* tri, int prim) {
   if (!tri) {
     box += x[prim];
@@ -24,6 +17,13 @@ void add_vertices(coal::AABB& box, const Vec3* x, const coal::Triangle* tri, int
 }
 
 }  // namespace
+
+coal::AABB affine_box(const coal::AABB& rest, const AffineMap& m) {
+  const Vec3 c = 0.5 * (rest.min_ + rest.max_), h = 0.5 * (rest.max_ - rest.min_);
+  const Vec3 wc = m.A * c + m.p;
+  const Vec3 wh = m.A.cwiseAbs() * h + Vec3::Constant(m.pad);
+  return coal::AABB(Vec3(wc - wh), Vec3(wc + wh));
+}
 
 coal::AABB TreeBoxes::node(int i) const {
   const auto& n = tree->getBV(unsigned(i));
@@ -39,8 +39,8 @@ coal::AABB TreeBoxes::node(int i) const {
     if (x1) add_vertices(box, x1, tri, prim);
     return box;
   }
-  coal::AABB box = image(n.bv, *affine0);
-  if (affine1) box += image(n.bv, *affine1);
+  coal::AABB box = affine_box(n.bv, *affine0);
+  if (affine1) box += affine_box(n.bv, *affine1);
   return box;
 }
 

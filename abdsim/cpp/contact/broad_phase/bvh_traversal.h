@@ -18,6 +18,10 @@ inline bool boxes_within(const coal::AABB& a, const coal::AABB& b, double margin
   return true;
 }
 
+// A box around the image of a rest box under an affine map (plus the map's slack): the box
+// around a parallelepiped, centre A c + p, half-sizes |A| h.
+coal::AABB affine_box(const coal::AABB& rest, const AffineMap& m);
+
 // The world boxes of one tree's nodes at a query. Either the tree was refit to the world
 // positions (affine = nullptr: its own boxes), or it is still at rest and the body moves by
 // known affine maps: an inner node's box is then bounded by the image of its rest box (the
