@@ -102,15 +102,6 @@ Candidates BroadPhase::collect(const std::vector<Vec3>& x0, const std::vector<Ve
   std::vector<coal::AABB> boxes(static_cast<size_t>(n));
   for (int b = 0; b < n; ++b) {
     const double grow = 0.5 * q.margin + mesh_.body_thickness[b];
-    if (map_affine(b)) {
-      // The image of the rest box: O(1) instead of a pass over the body's vertices.
-      const coal::AABB& rest = bvhs_[b]->vertices()->getBV(0).bv;
-      boxes[b] = affine_box(rest, map0_[b]);
-      if (x1) boxes[b] += affine_box(rest, map1_[b]);
-      boxes[b].min_.array() -= grow;
-      boxes[b].max_.array() += grow;
-      continue;
-    }
     Vec3 lo = x0[mesh_.vertex_offset[b]], hi = lo;
     for (int v = mesh_.vertex_offset[b]; v < mesh_.vertex_offset[b + 1]; ++v) {
       lo = lo.cwiseMin(x0[v]);

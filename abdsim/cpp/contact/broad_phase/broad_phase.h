@@ -55,10 +55,11 @@ class BroadPhase {
                          const BroadPhaseQuery& q);
 
  private:
-  // Body boxes are the images of the rest boxes through the bodies' affine maps (recovered
-  // from a few vertices); a body without a map gets its box from a pass over its vertices,
-  // and its three BVHs are refit (to x0, or swept x0 → x1) only when some pair or
-  // self-collision needs them. The ground descends the vertex tree of the bodies near it.
+  // Body boxes come from a pass over the vertices (tight: the images of rest boxes through
+  // the affine maps are looser and let more body pairs through to the trees, which cost
+  // more than the pass). A body's affine maps are recovered (or, failing that, its three
+  // BVHs refit to x0, or swept x0 → x1) only when some pair, self-collision or the ground
+  // needs them; the ground descends the vertex tree of the bodies near it.
   Candidates collect(const std::vector<Vec3>& x0, const std::vector<Vec3>* x1,
                      const BroadPhaseQuery& q);
   bool map_affine(int b);  // recovers b's maps (once per query); false: b must be refit
