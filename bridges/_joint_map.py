@@ -15,7 +15,8 @@ abdsim's joint coordinates (``world.joint_positions()``/``joint_velocities()``, 
   the body frame.
 
 Entries of joints that are not in the scene (on bodies without geometry) keep their loaded
-values.
+values. A body on several MJCF joints hangs from joint frames (``bridges/_joint_frames.py``):
+each of its joints is still one abdsim joint, and ``set_world_state`` places the frames too.
 """
 
 from __future__ import annotations
@@ -189,6 +190,15 @@ def set_world_state(result: Any, world: Any, qpos: Any, qvel: Any = None) -> Non
             T[i] = pose_matrix(R, d.xpos[b])
             mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_XBODY, b, res, 0)
             V[i] = velocity_matrix(R, res[:3], res[3:])
+        # Joint frames (bridges/_joint_frames.py): the body frame after the joint that moves it.
+        from abdsim.bridges._joint_frames import frame_state
+
+        loaded = set(result.source_map.values())
+        for j in result.joints:
+            if j.child not in loaded:
+                b = int(m.jnt_bodyid[j.source_id])
+                upto = int(j.source_id) - int(m.body_jntadr[b]) + 1
+                T[j.child], V[j.child] = frame_state(mujoco, m, d.qpos, d.qvel, b, upto)
     else:
         import pinocchio as pin
 

@@ -14,8 +14,10 @@ gives the joint ``gear·force`` with ``L = gear·θ``.
 * **Site transmission** on a moving body (thrusters): force ``clamp(g·u + b0)`` along the
   site-frame ``gear[:3]`` at the site, torque along ``gear[3:]``; applied by the
   :class:`abdsim.bridges.RobotWorld` of ``result.make_world()`` before every step.
+* **Fixed tendon moving one joint** (``bridges/_mjcf_tendons.py``): that joint's actuator with
+  the gear times the tendon's coefficient.
 * Not modelled, each named in the notes and left out of ``world.ctrl`` (``result.actuator_ids``
-  says which MuJoCo actuator each entry of ``world.ctrl`` is): tendon, slider-crank, body
+  says which MuJoCo actuator each entry of ``world.ctrl`` is): other tendons, slider-crank, body
   (adhesion) transmissions, a ``refsite``, actuators on ball or free joints, activation
   dynamics (``dyntype`` filter, integrator, muscle...), non-fixed gains, muscle / user biases,
   a constant bias ``b0`` or a destabilising ``b1``/``b2 > 0`` on a joint, velocity bias on a
@@ -28,6 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from abdsim.bridges._mjcf_tendons import tendon_joint
+
 
 @dataclass
 class ActuatorInfo:
@@ -37,7 +41,7 @@ class ActuatorInfo:
         name: the actuator's name (``actuator<i>`` when unnamed).
         mj_id: its MuJoCo actuator id (index into ``MjData.ctrl``).
         kind: ``"motor"``, ``"position"``, ``"velocity"`` (a joint) or ``"site"``.
-        joint: the joint's name (joint transmissions).
+        joint: the joint's name (joint transmissions, or the one joint a fixed tendon moves).
         kp, kv, gear: abdsim's preset gains and (rescaled) gear (joint transmissions).
         ctrl_range: MuJoCo's ``ctrlrange`` when ``ctrllimited``, else None.
         force_range: the force range abdsim applies (rescaled by the gear factor for joints).
@@ -125,7 +129,11 @@ def read_actuators(mujoco, model, source_map, body_pose_in_root, loaded_joints, 
         if bias == "none":
             b0 = b1 = b2 = 0.0
         target = int(model.actuator_trnid[a, 0])
-        why = None
+        why, tendon_why, coef = None, None, 1.0
+        if trn == "tendon":  # a fixed tendon on one joint is that joint (bridges/_mjcf_tendons)
+            joint_id, coef, tendon_why = tendon_joint(mujoco, model, target)
+            if tendon_why is None:
+                trn, target = "joint", joint_id
         if dyn != "none":
             why = f"activation dynamics dyntype={dyn!r} are not modelled"
         elif gain != "fixed":
@@ -145,7 +153,7 @@ def read_actuators(mujoco, model, source_map, body_pose_in_root, loaded_joints, 
                 except ValueError as e:
                     why = str(e)
                 else:
-                    gear = float(model.actuator_gear[a, 0]) * s
+                    gear = float(model.actuator_gear[a, 0]) * coef * s
                     out.append(
                         ActuatorInfo(
                             name, a, kind, joint=joint, kp=kp, kv=kv, gear=gear,
@@ -170,7 +178,7 @@ def read_actuators(mujoco, model, source_map, body_pose_in_root, loaded_joints, 
                     )
                 )  # fmt: skip
         else:
-            why = f"{trn} transmission is not modelled"
+            why = tendon_why or f"{trn} transmission is not modelled"
         if why is not None:
             notes.append(f"actuator {name!r}: not simulated, {why}; it is not in world.ctrl")
     sites = [a.name for a in out if a.kind == "site"]

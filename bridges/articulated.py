@@ -110,7 +110,8 @@ def _urdf_physics(result: LoadResult, joint: JointInfo) -> dict[str, Any]:
 
 def check_articulation(result: LoadResult) -> None:
     """LoaderError naming the file, body and joints for what abdsim cannot articulate: a joint
-    kind it has no model of, a body moved by several joints (MJCF)."""
+    kind it has no model of, a body moved by several joints (the MJCF loader splits those into
+    chains of joint frames, ``bridges/_joint_frames.py``; a hand-made LoadResult may not)."""
     where = f"{result.format.upper()} {result.source.name}"
     per_child: dict[int, list[JointInfo]] = {}
     for j in result.joints:
@@ -130,8 +131,8 @@ def check_articulation(result: LoadResult) -> None:
             raise LoaderError(
                 f"{where}: body {result.bodies[child].name!r} moves on {len(joints)} joints "
                 f"({', '.join(f'{j.name!r} {j.type}' for j in joints)}): abdsim joins two "
-                "bodies by one joint, and a chain of massless in-between bodies has no sound "
-                "affine-body model; load with kinematic=True to script it"
+                "bodies by one joint; give each joint its own child body (load_mjcf does so "
+                "with joint frames) or load with kinematic=True to script it"
             )
 
 
@@ -140,8 +141,8 @@ def build_articulated_scene(result: LoadResult, **settings: Any):
     with the source's joint physics and (MJCF) actuators.
 
     Raises:
-        LoaderError: a joint type abdsim does not model, a body on several joints (MJCF
-            bodies with two hinges), joint data abdsim rejects (the message names the joint).
+        LoaderError: a joint type abdsim does not model, a body on several joints (not
+            split into joint frames), joint data abdsim rejects (the message names the joint).
     """
     check_articulation(result)
     bodies = [replace(b, kind="dynamic") if b.kind == "kinematic" else b for b in result.bodies]

@@ -9,6 +9,10 @@ MuJoCo compiles the file (``mujoco.MjModel.from_xml_path``); abdsim reads the co
   → the full inertia tensor in the body frame (a group of several bodies gets their exact
   combination). A group whose root has a ``free`` joint is ``dynamic``; one on
   ``hinge``/``slide``/``ball`` joints is ``kinematic`` (:class:`abdsim.bridges.MjcfDriver`).
+* Articulated (the default), a body moved by several joints (planar roots, two- and
+  three-hinge hips) hangs from its parent through a chain of joint frames, one MuJoCo joint
+  each, that collide with nothing and carry a small share of its mass
+  (``bridges/_joint_frames.py``); joint names, order and coordinates stay MuJoCo's.
 * Every geom fixed to the world (on the world body or on a body welded to it) is its own
   ``fixed`` body, in the geom's frame. z-up ``plane`` geoms become :class:`Ground` planes;
   other planes (walls, tilted) fixed thin boxes and height fields fixed closed solids
@@ -60,6 +64,7 @@ from abdsim.bridges._contact_rules import (
     mjcf_rules,
 )
 from abdsim.bridges._inertia_proxy import inertia_box
+from abdsim.bridges._joint_frames import compound_note, joint_frames
 from abdsim.bridges._mjcf_actuators import read_actuators
 from abdsim.bridges._mjcf_geoms import heightfield_surface, plane_box_size
 from abdsim.bridges._mjcf_unsupported import unsimulated_notes
@@ -106,8 +111,7 @@ def load_mjcf(
         FileNotFoundError: the file, or a mesh file it names, does not exist.
         LoaderError (a ValueError): MuJoCo rejects the file (its message names the element;
             this covers malformed XML and non-physical inertias), an unsupported geom, a
-            dynamic body without collision geometry, an unknown keyframe; articulated, a body
-            moved by several joints (named with its joints; ``kinematic=True`` loads it).
+            dynamic body without collision geometry, an unknown keyframe.
     """
     import mujoco
 
@@ -448,17 +452,34 @@ class _MjcfLoader:
             )
             if not geoms:  # an inertia box: no geom, so MuJoCo's filter pairs it with nothing
                 bodies[-1].geoms, bodies[-1].geom_ranges, bodies[-1].friction = (), {}, None
-        joints = []
-        for root, i in source_map.items():
+        joints, compound = [], []
+        for root, i in list(source_map.items()):
             parent = int(m.body_weldid[int(m.body_parentid[root])])
             bodies[i].parent = source_map.get(parent)
             adr, num = int(m.body_jntadr[root]), int(m.body_jntnum[root])
-            for j in range(adr, adr + num):
+            # Articulated, a body on k > 1 joints hangs from its parent through k - 1 joint
+            # frames, one joint each (bridges/_joint_frames.py).
+            chain = [bodies[i].parent]
+            if self.articulated and num > 1:
+                frames = joint_frames(self, bodies[i], root)
+                for frame in frames:
+                    frame.parent = chain[-1]
+                    chain.append(len(bodies))
+                    bodies.append(frame)
+                compound.append(bodies[i].name)
+            chain.append(i)
+            # (parent, child) of each joint: one link of the chain each, or (one joint, or a
+            # kinematic body on several) parent and body.
+            if len(chain) == 2:
+                links = [(chain[0], i)] * num
+            else:
+                links = [(chain[n], chain[n + 1]) for n in range(num)]
+            for j, (a, b) in zip(range(adr, adr + num), links, strict=True):
                 kind = self.mj.mjtJoint(int(m.jnt_type[j])).name[len("mjJNT_") :].lower()
                 kind = {"hinge": "revolute", "slide": "prismatic"}.get(kind, kind)
                 axis = np.array(d.xaxis[j]) if kind in ("revolute", "prismatic") else None
                 name = m.joint(j).name or f"joint{j}"
-                joints.append(
-                    JointInfo(name, kind, bodies[i].parent, i, np.array(d.xanchor[j]), axis, j)
-                )
+                joints.append(JointInfo(name, kind, a, b, np.array(d.xanchor[j]), axis, j))
+        if compound:
+            self.notes.append(compound_note(compound))
         return bodies, grounds, source_map, joints

@@ -59,3 +59,33 @@ def rel_err():
         return float(np.abs(a - b).max() / max(np.abs(b).max(), 1e-300))
 
     return err
+
+
+def suite_xml(name: str) -> Path:
+    """The dm_control suite file ``name`` (skips the test when dm_control is missing)."""
+    dm_control = pytest.importorskip("dm_control")
+    return Path(dm_control.__file__).parent / "suite" / name
+
+
+def load_mjcf_quietly(path, **kwargs):
+    """``load_mjcf`` with its notes' warnings silenced (tests that check notes read them)."""
+    import warnings
+
+    from abdsim.bridges import load_mjcf
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return load_mjcf(path, **kwargs)
+
+
+def worst_qpos_error(result, world, model, data, steps: int) -> float:
+    """Step abdsim's ``world`` and MuJoCo's ``data`` together: the largest |qpos difference|."""
+    import mujoco
+    import numpy as np
+
+    worst = 0.0
+    for _ in range(steps):
+        world.step()
+        mujoco.mj_step(model, data)
+        worst = max(worst, float(np.abs(result.qpos_from_world(world) - data.qpos).max()))
+    return worst

@@ -51,9 +51,11 @@ def test_mjcf_joint_physics_are_read(tmp_path):
     abdsim.World(scene).step(5)
 
 
-def test_body_on_two_hinges_is_refused(tmp_path):
-    """A body on two joints has no sound abdsim model: a LoaderError naming the file, the body
-    and its joints, at load; ``kinematic=True`` still loads it (scripted)."""
+def test_body_on_two_hinges_loads_as_a_chain_of_joint_frames(tmp_path):
+    """A body on two joints loads (bridges/_joint_frames.py): world -a-> frame -c-> body, one
+    abdsim joint per MuJoCo joint. A scene is never built from a body that still has two
+    joints (a kinematic load handed to build_articulated_scene): a LoaderError names the
+    file, the body and its joints."""
     xml = """<mujoco><worldbody><body name="b" pos="0 0 1">
       <joint name="a" type="hinge" axis="1 0 0"/><joint name="c" type="hinge" axis="0 1 0"/>
       <geom type="box" size="0.05 0.05 0.2" pos="0 0 -0.25"/></body></worldbody></mujoco>"""
@@ -61,12 +63,14 @@ def test_body_on_two_hinges_is_refused(tmp_path):
     path.write_text(xml)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        with pytest.raises(LoaderError, match=r"two\.xml: body 'b' moves on 2 joints \('a'.*'c'"):
-            load_mjcf(path)
-        result = load_mjcf(path, kinematic=True)
-    assert [b.kind for b in result.bodies] == ["kinematic"]
-    with pytest.raises(LoaderError, match="body 'b' moves on 2 joints"):
-        build_articulated_scene(result, contact=False)
+        result = load_mjcf(path)
+        scripted = load_mjcf(path, kinematic=True)
+    assert result.names == ["b", "b (joint frame after 'a')"]
+    assert [(j.name, j.parent, j.child) for j in result.joints] == [("a", None, 1), ("c", 1, 0)]
+    assert [j.name for j in result.scene.joints] == ["a", "c"]
+    assert [b.kind for b in scripted.bodies] == ["kinematic"]
+    with pytest.raises(LoaderError, match=r"two\.xml: body 'b' moves on 2 joints \('a'.*'c'"):
+        build_articulated_scene(scripted, contact=False)
 
 
 _URDF = """<?xml version="1.0"?><robot name="r">

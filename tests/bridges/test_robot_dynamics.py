@@ -5,23 +5,13 @@ thrust-driven drone against MuJoCo, all from ``load_mjcf`` / ``load_urdf`` defau
 from __future__ import annotations
 
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from abdsim.bridges import load_mjcf, load_urdf
+from abdsim.bridges import load_urdf
 
-
-def _suite(name: str) -> Path:
-    dm_control = pytest.importorskip("dm_control")
-    return Path(dm_control.__file__).parent / "suite" / name
-
-
-def _load_mjcf(path, **kwargs):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return load_mjcf(path, **kwargs)
+from .conftest import load_mjcf_quietly, suite_xml
 
 
 @pytest.mark.parametrize(
@@ -34,7 +24,7 @@ def test_dm_control_swings_like_mujoco_rk4(name, q0, v0):
     import mujoco
 
     dt = 1e-3
-    result = _load_mjcf(_suite(name))
+    result = load_mjcf_quietly(suite_xml(name))
     world = result.make_world(integrator="bdf2", contact=False, dt=dt)
     result.set_world_state(world, q0, v0)
     model = result.model
@@ -116,7 +106,7 @@ def test_drone_hovers_and_climbs_like_mujoco(tmp_path):
 
     path = tmp_path / "drone.xml"
     path.write_text(_DRONE)
-    result = _load_mjcf(path)
+    result = load_mjcf_quietly(path)
     assert result.actuator_names == ["t0", "t1", "t2", "t3"]
     assert result.actuator_ids.tolist() == [0, 1, 2, 3]
     assert any("RobotWorld" in note and "'t3'" in note for note in result.notes)

@@ -4,12 +4,11 @@ World and steps without intersection (issue 11).
 Walks every URDF of the installed example-robot-data and every dm_control suite XML (the
 ``dm_control`` package of the test extra; skipped with a message when missing). A file that
 Pinocchio itself rejects, or that has no geometry at all, must fail with a LoaderError naming
-the file. dm_control files with a body on several joints (planar roots, two-hinge hips) are
-refused by name as articulations (abdsim joins two bodies by one joint) and walked
-``kinematic=True`` instead. A URDF loads with the SRDF example-robot-data ships for it (its
-``disable_collisions`` pairs never collide, as in MoveIt and Pinocchio's collision setup).
-The steps' gaps are abdsim's; at the end coal checks, independently, that no pair of bodies
-that may touch (one of them moving) intersects.
+the file. Every dm_control suite file loads dynamic (bodies on several joints, planar roots and
+two- or three-hinge hips, as chains of joint frames). A URDF loads with the SRDF
+example-robot-data ships for it (its ``disable_collisions`` pairs never collide, as in MoveIt
+and Pinocchio's collision setup). The steps' gaps are abdsim's; at the end coal checks,
+independently, that no pair of bodies that may touch (one of them moving) intersects.
 
 Files whose load takes long (dense meshes) are the heavy part: run with ABDSIM_HEAVY_TESTS=1.
 """
@@ -61,22 +60,6 @@ NOT_ARTICULATED = {
 #: URDFs with a link smaller than 4 d_hat (tiago's 2 mm finger boxes): the World refuses the
 #: default d_hat naming the body, and they walk with a smaller one.
 SMALL_PARTS = {"tiago.urdf": 5e-4, "tiago_dual.urdf": 5e-4}
-#: dm_control files with a body on several joints: the articulation is refused naming it.
-SEVERAL_JOINTS = {
-    "ball_in_cup.xml": "cup",
-    "cheetah.xml": "torso",
-    "dog.xml": "L_1",
-    "fish.xml": "tail1",
-    "hopper.xml": "torso",
-    "humanoid.xml": "lower_waist",
-    "humanoid_CMU.xml": "lfemur",
-    "manipulator.xml": "ball",
-    "point_mass.xml": "pointmass",
-    "quadruped.xml": "hip_front_left",
-    "stacker.xml": "box0",
-    "swimmer.xml": "head",
-    "walker.xml": "torso",
-}
 #: Files that are not loadable robots, with what the error must say.
 REJECTED = {
     "ur3.urdf": "has no <link>",  # an empty xacro leftover: Pinocchio rejects it too
@@ -215,15 +198,12 @@ def test_every_example_robot_urdf_loads_floating_and_steps(path):
 def test_every_dm_control_suite_xml_loads_and_steps(path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        if path.name in SEVERAL_JOINTS:
-            body = SEVERAL_JOINTS[path.name]
-            with pytest.raises(LoaderError, match=f"{path.name}: body '{body}' moves on"):
-                load_mjcf(path)
-            result = load_mjcf(path, kinematic=True)
-        else:
-            result = load_mjcf(path)
-            assert result.articulated and all(b.kind != "kinematic" for b in result.bodies)
-            assert len(result.scene.joints) == len(result.joint_names)  # lqr.xml has none
+        result = load_mjcf(path)
+    assert result.articulated and all(b.kind != "kinematic" for b in result.bodies)
+    # Joint frames add bodies, never joints: one abdsim joint per MuJoCo hinge/slide/ball.
+    m = result.model
+    assert result.joint_names == [m.joint(j).name for j in range(m.njnt) if m.jnt_type[j] != 0]
+    assert [j.name for j in result.scene.joints] == result.joint_names  # lqr.xml has none
     assert _simulate(result) > 0
 
 

@@ -149,6 +149,8 @@ class World {
   // Redoes the step as 2, 4, 8, ... substeps; throws SolverError (state unchanged) if even
   // the finest fails, with `failure` (why the whole step failed) and the last reason.
   void advance_in_substeps(const std::string& failure, StepDiagnostics& d);
+  // After the pieces: a BDF2 history one step h long from the last piece's (length `piece`).
+  void restart_history_after_pieces(double piece);
   // world_coupled.cpp
   void solve_coupled(double c2, StepDiagnostics& d);
   void place_kinematic_bodies(StepDiagnostics& d);

@@ -16,6 +16,7 @@
 
 #include "common/affine.h"
 #include "contact/ipc_contact_term.h"
+#include "solver/bdf_history.h"
 #include "solver/world.h"
 
 namespace abd {
@@ -37,6 +38,7 @@ struct SubstepState {
   bool has_history0 = false;
   int pieces = 0;
   std::string last_failure;
+  double last_piece = 0.0;  // length of the last committed piece
 };
 
 // `total` becomes the last piece's diagnostics, with the iteration counts summed and the CCD
@@ -132,6 +134,22 @@ std::string World::step_rejection() const {
   return "";
 }
 
+// q_prev_ is a piece ago, not a step: each body gets the history of a constant acceleration,
+// its last piece's (bdf_history.h), so that the next step is BDF2 without a BDF1 restart (a
+// body in free flight goes on along its parabola exactly). has_history_ stays as the last
+// piece's commit left it: a piece that began or ended contact still restarts with BDF1.
+void World::restart_history_after_pieces(double piece) {
+  const double h = scene_.dt;
+  for (int b = 0; b < n_; ++b) {
+    const Vec12 v = q_dot_.segment<12>(12 * b);
+    const Vec12 a = (v - q_dot_prev_.segment<12>(12 * b)) / piece;
+    const bdf_history::State s =
+        bdf_history::constant_acceleration(q_.segment<12>(12 * b), v, a, h);
+    q_prev_.segment<12>(12 * b) = s.q;
+    q_dot_prev_.segment<12>(12 * b) = s.q_dot;
+  }
+}
+
 void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) {
   const double h = scene_.dt;
   SubstepState s{q_, q_dot_, q_prev_, q_dot_prev_, kinematic_target_, has_history_, 0, failure};
@@ -161,6 +179,7 @@ void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) 
       remember_gap(piece);
       accumulate(piece, total);
       ++s.pieces;
+      s.last_piece = scene_.dt;
       return true;
     }
     s.last_failure = why;
@@ -181,7 +200,7 @@ void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) 
     scene_.dt = h;
     kinematic_target_ = s.target;
     if (ok) {
-      has_history_ = false;  // q_prev_ is a piece ago, not h: the next BDF2 step restarts
+      restart_history_after_pieces(s.last_piece);
       total.substeps = s.pieces;
       d = std::move(total);
       return;
