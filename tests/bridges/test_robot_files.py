@@ -5,8 +5,9 @@ Walks every URDF of the installed example-robot-data and every dm_control suite 
 ``dm_control`` package of the test extra; skipped with a message when missing). A file that
 Pinocchio itself rejects, or that has no geometry at all, must fail with a LoaderError naming
 the file. Every dm_control suite file loads dynamic (bodies on several joints, planar roots and
-two- or three-hinge hips, as chains of joint frames). The steps' gaps are abdsim's; at the end
-coal checks,
+two- or three-hinge hips, as chains of joint frames). A URDF loads with the SRDF
+example-robot-data ships for it (its ``disable_collisions`` pairs never collide, as in MoveIt
+and Pinocchio's collision setup). The steps' gaps are abdsim's; at the end coal checks,
 independently, that no pair of bodies that may touch (one of them moving) intersects.
 
 Files whose load takes long (dense meshes) are the heavy part: run with ABDSIM_HEAVY_TESTS=1.
@@ -67,6 +68,14 @@ REJECTED = {
 
 def _urdfs() -> list[Path]:
     return sorted(ROBOTS.glob("**/*.urdf")) if ROBOTS is not None else []
+
+
+def _srdf(urdf: Path) -> Path | None:
+    """The SRDF shipped next to a URDF: ``../srdf/<name>.srdf`` whose name is the longest
+    prefix of the URDF's (``talos_reduced_box.urdf`` -> ``talos.srdf``), or None."""
+    folder = urdf.parent.parent / "srdf"
+    found = [s for s in folder.glob("*.srdf") if urdf.stem.startswith(s.stem)]
+    return max(found, key=lambda s: len(s.stem)) if found else None
 
 
 def _suite_xmls() -> list[Path]:
@@ -160,7 +169,7 @@ def test_every_example_robot_urdf_loads_and_steps(path):
             result = load_urdf(path, kinematic=True)
             assert _simulate(result) > 0
             return
-        result = load_urdf(path)
+        result = load_urdf(path, srdf=_srdf(path))
     assert len(result.bodies) >= 1
     assert all(b.kind != "kinematic" for b in result.bodies)
     assert len(result.scene.joints) == len(result.joint_names)
@@ -181,7 +190,7 @@ def test_every_example_robot_urdf_loads_floating_and_steps(path):
             with pytest.raises(LoaderError, match=NOT_ARTICULATED[path.name]):
                 load_urdf(path, floating_base=True)
             return
-        result = load_urdf(path, floating_base=True)
+        result = load_urdf(path, floating_base=True, srdf=_srdf(path))
     assert _simulate(result) > 0
 
 

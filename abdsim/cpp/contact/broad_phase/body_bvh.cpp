@@ -40,6 +40,7 @@ BodyBvh::BodyBvh(const std::vector<Vec3>& rest, const std::vector<std::array<int
 }
 
 void BodyBvh::update_all(const std::vector<Vec3>& x) {
+  at_rest_ = false;
   for (Bvh* t : {vertices_.get(), edges_.get(), faces_.get()}) {
     if (!t) continue;
     t->beginUpdateModel();  // the current frame becomes the previous one

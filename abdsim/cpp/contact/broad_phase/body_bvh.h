@@ -1,11 +1,13 @@
 // One body's contact surface as three coal bounding-volume hierarchies, over its vertices,
 // its edges and its triangles, built once from the rest shape (topology only).
 //
-// Why refit and not transform: an affine body's motion x = A x̄ + p is not rigid, so a BVH
-// built in rest space and queried through a rigid transform (coal's usual use) would be
-// wrong under shear/stretch. Instead every query refits the hierarchy to world-space
-// positions (O(n), tree topology kept; ABD bodies stay near-rigid, so the rest-shape topology
-// stays a good tree). We use coal's beginUpdateModel/updateSubModel/endUpdateModel, which
+// Two ways to world space. An affine body's motion x = A x̄ + p is not rigid, so coal's usual
+// rigid-transform query would be wrong under shear/stretch; but the image of a rest box under
+// the affine map is bounded in O(1) (bvh_traversal.h, TreeBoxes), so trees normally stay at
+// rest and are never refit (the broad phase recovers A and p, affine_frame.h). A body whose
+// map cannot be recovered is refit to world-space positions instead (O(n), tree topology
+// kept; ABD bodies stay near-rigid, so the rest-shape topology stays a good tree). We use
+// coal's beginUpdateModel/updateSubModel/endUpdateModel, which
 // keeps the previous frame and fits each box around the primitive in both frames: updating
 // to x0 then to x1 bounds the straight motion x0 → x1 (a linearly moving simplex stays in the
 // convex hull of its end positions), and updating twice to x bounds x alone. (coal refuses
@@ -45,12 +47,14 @@ class BodyBvh {
   const Bvh* edges() const { return edges_.get(); }
   const Bvh* faces() const { return faces_.get(); }
 
-  // Box around every vertex (after the last refit).
-  const coal::AABB& bounds() const { return vertices_->getBV(0).bv; }
+  // True until the first refit: the trees' boxes are those of the rest shape, which
+  // TreeBoxes (bvh_traversal.h) maps to world space through the body's affine map.
+  bool at_rest() const { return at_rest_; }
 
  private:
   void update_all(const std::vector<Vec3>& x);
   std::unique_ptr<Bvh> vertices_, edges_, faces_;
+  bool at_rest_ = true;
 };
 
 }  // namespace abd::contact

@@ -34,8 +34,12 @@ BroadPhase::BroadPhase(const ContactMesh& mesh, BodyFilter bodies_may_collide)
       edges.push_back({mesh.edges[e][0] - v0, mesh.edges[e][1] - v0});
     for (int f = mesh.face_offset[b]; f < mesh.face_offset[b + 1]; ++f)
       faces.push_back({mesh.faces[f][0] - v0, mesh.faces[f][1] - v0, mesh.faces[f][2] - v0});
-    bvhs_.push_back(std::make_unique<BodyBvh>(body_slice(mesh.rest, b), edges, faces));
+    const std::vector<Vec3> rest = body_slice(mesh.rest, b);
+    bvhs_.push_back(std::make_unique<BodyBvh>(rest, edges, faces));
+    frames_.emplace_back(rest);
   }
+  map0_.resize(size_t(mesh.num_bodies()));
+  map1_.resize(size_t(mesh.num_bodies()));
 }
 
 std::vector<Vec3> BroadPhase::body_slice(const std::vector<Vec3>& x, int b) const {
@@ -51,25 +55,53 @@ Candidates BroadPhase::query_swept(const std::vector<Vec3>& x0, const std::vecto
   return collect(x0, &x1, q);
 }
 
-void BroadPhase::fit(int b, const std::vector<Vec3>& x0, const std::vector<Vec3>* x1) {
-  if (fitted_[b]) return;
-  if (x1)
-    bvhs_[b]->refit_swept(body_slice(x0, b), body_slice(*x1, b));
-  else
-    bvhs_[b]->refit(body_slice(x0, b));
+bool BroadPhase::map_affine(int b) {
+  if (fitted_[b]) return affine_[b];
+  const Vec3* first0 = x0_->data() + mesh_.vertex_offset[b];
+  const Vec3* first1 = x1_ ? x1_->data() + mesh_.vertex_offset[b] : nullptr;
+  // Once refit, a body's trees are no longer at rest: it stays on the refit path.
+  affine_[b] = bvhs_[b]->at_rest() && frames_[b].recover(first0, map0_[b]) &&
+               (!first1 || frames_[b].recover(first1, map1_[b]));
+  fitted_[b] = affine_[b];
+  return affine_[b];
+}
+
+void BroadPhase::fit(int b) {
+  if (fitted_[b] || map_affine(b)) return;
   fitted_[b] = 1;
+  if (x1_)
+    bvhs_[b]->refit_swept(body_slice(*x0_, b), body_slice(*x1_, b));
+  else
+    bvhs_[b]->refit(body_slice(*x0_, b));
+}
+
+TreeBoxes BroadPhase::tree_boxes(int b, const Bvh* tree) const {
+  TreeBoxes t;
+  t.tree = tree;
+  if (!affine_[b]) return t;
+  t.affine0 = &map0_[b];
+  t.x0 = x0_->data() + mesh_.vertex_offset[b];
+  if (x1_) {
+    t.affine1 = &map1_[b];
+    t.x1 = x1_->data() + mesh_.vertex_offset[b];
+  }
+  return t;
 }
 
 Candidates BroadPhase::collect(const std::vector<Vec3>& x0, const std::vector<Vec3>* x1,
                                const BroadPhaseQuery& q) {
   const int n = mesh_.num_bodies();
   Candidates out;
+  x0_ = &x0;
+  x1_ = x1;
   fitted_.assign(static_cast<size_t>(n), 0);
+  affine_.assign(static_cast<size_t>(n), 0);
   // Each body's box (around its vertices, at x0 and x1 when swept) grows by half the margin
   // plus its own thickness, so two boxes overlap whenever their bodies may be within
   // margin + r_a + r_b.
   std::vector<coal::AABB> boxes(static_cast<size_t>(n));
   for (int b = 0; b < n; ++b) {
+    const double grow = 0.5 * q.margin + mesh_.body_thickness[b];
     Vec3 lo = x0[mesh_.vertex_offset[b]], hi = lo;
     for (int v = mesh_.vertex_offset[b]; v < mesh_.vertex_offset[b + 1]; ++v) {
       lo = lo.cwiseMin(x0[v]);
@@ -79,37 +111,59 @@ Candidates BroadPhase::collect(const std::vector<Vec3>& x0, const std::vector<Ve
         hi = hi.cwiseMax((*x1)[v]);
       }
     }
-    const double grow = 0.5 * q.margin + mesh_.body_thickness[b];
     boxes[b] = coal::AABB(Vec3(lo.array() - grow), Vec3(hi.array() + grow));
   }
   for (const auto& [a, b] : body_pairs_.overlapping(boxes))
     if (may_collide_(a, b)) {
-      fit(a, x0, x1);
-      fit(b, x0, x1);
+      fit(a);
+      fit(b);
       collect_pair(a, b, q.margin + mesh_.body_thickness[a] + mesh_.body_thickness[b], q, out);
     }
   for (int b = 0; b < n; ++b) {
     if (mesh_.self_collision[b] && may_collide_(b, b)) {
-      fit(b, x0, x1);
+      fit(b);
       collect_self(b, q.margin + 2.0 * mesh_.body_thickness[b], q, out);
     }
     const double z_max = q.ground_height + q.margin + mesh_.body_thickness[b];
-    // boxes[b].min_ z is the lowest vertex minus half the margin and the thickness. The
-    // ground needs no tree: a pass over the body's vertices (lowest of x0, x1) is what a
-    // refit plus a descent would cost anyway.
+    // boxes[b].min_ z is (at most) the lowest vertex minus half the margin and the thickness.
     if (q.ground && boxes[b].min_[2] + 0.5 * q.margin + mesh_.body_thickness[b] <= z_max &&
-        may_collide_(b, -1)) {
-      for (int v = mesh_.vertex_offset[b]; v < mesh_.vertex_offset[b + 1]; ++v) {
-        const double z = x1 ? std::min(x0[v].z(), (*x1)[v].z()) : x0[v].z();
-        if (z <= z_max) out.point_ground.push_back(v);
-      }
-    }
+        may_collide_(b, -1))
+      collect_ground(b, z_max, out);
   }
   sort_unique(out.point_triangle);
   sort_unique(out.edge_edge);
   sort_unique(out.point_ground);
   sort_unique(out.edge_triangle);
+  x0_ = x1_ = nullptr;  // the caller's positions are not ours to keep
   return out;
+}
+
+void BroadPhase::collect_ground(int b, double z_max, Candidates& out) const {
+  const std::vector<Vec3>& x0 = *x0_;
+  const int first = mesh_.vertex_offset[b];
+  if (!affine_[b]) {  // a pass over the vertices (lowest of x0, x1) costs what a refit would
+    for (int v = first; v < mesh_.vertex_offset[b + 1]; ++v) {
+      const double z = x1_ ? std::min(x0[v].z(), (*x1_)[v].z()) : x0[v].z();
+      if (z <= z_max) out.point_ground.push_back(v);
+    }
+    return;
+  }
+  // Descend the vertex tree: only the nodes whose box reaches down to z_max (a leaf's box is
+  // its vertex, lowest of x0 and x1: the same test as the pass above).
+  const TreeBoxes t = tree_boxes(b, bvhs_[b]->vertices());
+  std::vector<int> stack{0};
+  while (!stack.empty()) {
+    const int i = stack.back();
+    stack.pop_back();
+    if (t.node(i).min_[2] > z_max) continue;
+    const auto& node = t.tree->getBV(unsigned(i));
+    if (node.isLeaf()) {
+      out.point_ground.push_back(first + node.primitiveId());
+    } else {
+      stack.push_back(node.rightChild());
+      stack.push_back(node.leftChild());
+    }
+  }
 }
 
 void BroadPhase::collect_pair(int a, int b, double margin, const BroadPhaseQuery& q,
@@ -119,20 +173,23 @@ void BroadPhase::collect_pair(int a, int b, double margin, const BroadPhaseQuery
   const ContactMesh& m = mesh_;
   auto point_triangle = [&](const BodyBvh& P, int p_body, const BodyBvh& T, int t_body) {
     if (!T.faces()) return;
-    for_each_close_leaf_pair(*P.vertices(), *T.faces(), margin, [&](int v, int f) {
+    for_each_close_leaf_pair(tree_boxes(p_body, P.vertices()), tree_boxes(t_body, T.faces()),
+                             margin, [&](int v, int f) {
       out.point_triangle.push_back({m.vertex_offset[p_body] + v, m.face_offset[t_body] + f});
     });
   };
   point_triangle(A, a, B, b);
   point_triangle(B, b, A, a);
   if (A.edges() && B.edges())
-    for_each_close_leaf_pair(*A.edges(), *B.edges(), margin, [&](int i, int j) {
+    for_each_close_leaf_pair(tree_boxes(a, A.edges()), tree_boxes(b, B.edges()), margin,
+                             [&](int i, int j) {
       out.edge_edge.push_back({m.edge_offset[a] + i, m.edge_offset[b] + j});
     });
   if (!q.edge_triangle) return;
   auto edge_triangle = [&](const BodyBvh& E, int e_body, const BodyBvh& T, int t_body) {
     if (!E.edges() || !T.faces()) return;
-    for_each_close_leaf_pair(*E.edges(), *T.faces(), q.margin, [&](int e, int f) {
+    for_each_close_leaf_pair(tree_boxes(e_body, E.edges()), tree_boxes(t_body, T.faces()),
+                             q.margin, [&](int e, int f) {
       out.edge_triangle.push_back({m.edge_offset[e_body] + e, m.face_offset[t_body] + f});
     });
   };
@@ -145,17 +202,20 @@ void BroadPhase::collect_self(int a, double margin, const BroadPhaseQuery& q,
   const BodyBvh& A = *bvhs_[a];
   const ContactMesh& m = mesh_;
   if (A.faces())
-    for_each_close_leaf_pair(*A.vertices(), *A.faces(), margin, [&](int v, int f) {
+    for_each_close_leaf_pair(tree_boxes(a, A.vertices()), tree_boxes(a, A.faces()), margin,
+                             [&](int v, int f) {
       const int gv = m.vertex_offset[a] + v, gf = m.face_offset[a] + f;
       if (!contains(m.faces[gf], gv)) out.point_triangle.push_back({gv, gf});
     });
   if (A.edges())
-    for_each_close_leaf_pair(*A.edges(), *A.edges(), margin, [&](int i, int j) {
+    for_each_close_leaf_pair(tree_boxes(a, A.edges()), tree_boxes(a, A.edges()), margin,
+                             [&](int i, int j) {
       const int ei = m.edge_offset[a] + i, ej = m.edge_offset[a] + j;
       if (ei < ej && !shares_vertex(m.edges[ei], m.edges[ej])) out.edge_edge.push_back({ei, ej});
     });
   if (q.edge_triangle && A.edges() && A.faces())
-    for_each_close_leaf_pair(*A.edges(), *A.faces(), q.margin, [&](int i, int f) {
+    for_each_close_leaf_pair(tree_boxes(a, A.edges()), tree_boxes(a, A.faces()), q.margin,
+                             [&](int i, int f) {
       const int e = m.edge_offset[a] + i, gf = m.face_offset[a] + f;
       if (!contains(m.faces[gf], m.edges[e][0]) && !contains(m.faces[gf], m.edges[e][1]))
         out.edge_triangle.push_back({e, gf});

@@ -2,8 +2,12 @@
 //  1. bodies: coal's dynamic AABB tree over per-body world boxes (body_pairs.h), each box
 //     grown by half the query margin plus the body's thickness, keeps the body pairs that may
 //     be close; the `bodies_may_collide` filter (contact table, fixed–fixed) drops the rest;
-//  2. primitives: per-body coal BVHs refit to world space (body_bvh.h) are traversed against
-//     each other (bvh_traversal.h): vertices × triangles both ways and edges × edges.
+//  2. primitives: per-body coal BVHs (body_bvh.h) are traversed against each other
+//     (bvh_traversal.h): vertices × triangles both ways and edges × edges. The trees stay in
+//     rest space; their boxes are mapped to world space node by node through each body's
+//     affine map, recovered from its vertices (affine_frame.h), so a query costs the nodes it
+//     visits, not a refit of every tree it touches (dense robot meshes: ~10^5 triangles a
+//     link). A body without a recoverable map is refit instead.
 // A body is paired with itself only when its geometry has self_collision = 1 (then pairs
 // sharing a vertex are skipped). The ground is a height test on the vertices of the bodies
 // whose box reaches it.
@@ -16,8 +20,10 @@
 #include <memory>
 #include <vector>
 
+#include "contact/broad_phase/affine_frame.h"
 #include "contact/broad_phase/body_bvh.h"
 #include "contact/broad_phase/body_pairs.h"
+#include "contact/broad_phase/bvh_traversal.h"
 #include "contact/contact_mesh.h"
 
 namespace abd::contact {
@@ -49,12 +55,17 @@ class BroadPhase {
                          const BroadPhaseQuery& q);
 
  private:
-  // Body boxes come straight from the vertex positions; a body's three BVHs are refit (to
-  // x0, or swept x0 → x1) only when some pair, self-collision or the ground needs them, so
-  // bodies far from everything cost one pass over their vertices.
+  // Body boxes come from a pass over the vertices (tight: the images of rest boxes through
+  // the affine maps are looser and let more body pairs through to the trees, which cost
+  // more than the pass). A body's affine maps are recovered (or, failing that, its three
+  // BVHs refit to x0, or swept x0 → x1) only when some pair, self-collision or the ground
+  // needs them; the ground descends the vertex tree of the bodies near it.
   Candidates collect(const std::vector<Vec3>& x0, const std::vector<Vec3>* x1,
                      const BroadPhaseQuery& q);
-  void fit(int b, const std::vector<Vec3>& x0, const std::vector<Vec3>* x1);
+  bool map_affine(int b);  // recovers b's maps (once per query); false: b must be refit
+  void fit(int b);
+  void collect_ground(int b, double z_max, Candidates& out) const;
+  TreeBoxes tree_boxes(int b, const Bvh* tree) const;
   void collect_pair(int a, int b, double margin, const BroadPhaseQuery& q, Candidates& out) const;
   void collect_self(int a, double margin, const BroadPhaseQuery& q, Candidates& out) const;
   std::vector<Vec3> body_slice(const std::vector<Vec3>& x, int b) const;
@@ -62,7 +73,13 @@ class BroadPhase {
   const ContactMesh& mesh_;
   BodyFilter may_collide_;
   std::vector<std::unique_ptr<BodyBvh>> bvhs_;
-  std::vector<char> fitted_;  // per query: BVHs refit to this query's positions
+  std::vector<AffineFrame> frames_;
+  // Per query: the positions, which bodies are ready (fitted_), and for those whose trees
+  // stay at rest (affine_) their maps at x0 and x1.
+  const std::vector<Vec3>* x0_ = nullptr;
+  const std::vector<Vec3>* x1_ = nullptr;
+  std::vector<char> fitted_, affine_;
+  std::vector<AffineMap> map0_, map1_;
   BodyPairFinder body_pairs_;
 };
 

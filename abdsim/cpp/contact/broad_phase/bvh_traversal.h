@@ -5,6 +5,7 @@
 #pragma once
 #include <functional>
 
+#include "contact/broad_phase/affine_frame.h"
 #include "contact/broad_phase/body_bvh.h"
 
 namespace abd::contact {
@@ -17,9 +18,30 @@ inline bool boxes_within(const coal::AABB& a, const coal::AABB& b, double margin
   return true;
 }
 
+// A box around the image of a rest box under an affine map (plus the map's slack): the box
+// around a parallelepiped, centre A c + p, half-sizes |A| h.
+coal::AABB affine_box(const coal::AABB& rest, const AffineMap& m);
+
+// The world boxes of one tree's nodes at a query. Either the tree was refit to the world
+// positions (affine = nullptr: its own boxes), or it is still at rest and the body moves by
+// known affine maps: an inner node's box is then bounded by the image of its rest box (the
+// box around a parallelepiped, O(1) per node, no refit of the tree), and a leaf's box is the
+// exact box around its primitive's world vertices. Swept (affine1 set, x1 set): the union of
+// the boxes at both ends, which holds the whole straight motion (box centres move linearly
+// and half-sizes |A(t)| h stay below the interpolation of the ends').
+struct TreeBoxes {
+  const Bvh* tree = nullptr;
+  const AffineMap* affine0 = nullptr;
+  const AffineMap* affine1 = nullptr;
+  const Vec3* x0 = nullptr;  // the body's world vertices (its first one)
+  const Vec3* x1 = nullptr;
+
+  coal::AABB node(int i) const;
+};
+
 // emit(i, j) for every leaf i of a and leaf j of b whose boxes are within `margin`. Dual-tree
 // descent, always splitting the larger box, so the order of emitted pairs is deterministic.
-void for_each_close_leaf_pair(const Bvh& a, const Bvh& b, double margin,
+void for_each_close_leaf_pair(const TreeBoxes& a, const TreeBoxes& b, double margin,
                               const std::function<void(int, int)>& emit);
 
 }  // namespace abd::contact
