@@ -195,7 +195,7 @@ void bind_contact_term(py::module_& m) {
           [](IpcContactTerm& t, Q q_t, double dt) {
             const VecX q = flat_q(q_t);
             const VecX q_dot = VecX::Zero(q.size());
-            t.begin_step(StepContext{dt, q, q_dot});
+            t.begin_step(StepContext{dt, q, q_dot, 0.0, nullptr, std::nullopt});
           },
           py::arg("q_t"), py::arg("dt"))
       .def("value", [](const IpcContactTerm& t, Q q) { return t.value(flat_q(q)); }, py::arg("q"))
