@@ -210,6 +210,11 @@ class IpcContactTerm : public EnergyTerm {
   // True when every body of q lies on its segment of the last body_max_steps move:
   // q_b = q0_b + t_b dq_b with t_b in [0, 1] (to rounding).
   bool on_swept_path(const VecX& q) const;
+  // The world vertices at q: those of the active set or the last set built when either
+  // describes q (the solver asks at one iterate for energies, gradients and step bounds: a
+  // 5,000-vertex robot spent a third of its step recomputing them), else computed into
+  // `scratch`.
+  const std::vector<Vec3>& vertices_at(const VecX& q, std::vector<Vec3>& scratch) const;
 
   // The two bodies of a stencil's vertices (second -1 for the ground).
   std::array<int, 2> stencil_bodies(const std::array<int, 4>& vertices, int nv) const;
