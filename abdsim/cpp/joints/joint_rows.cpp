@@ -11,7 +11,7 @@ void point_rows(const JointFrame& f, const Vec12& qc, const Vec12& qp, const Vec
                 const Vec3& xp_bar, std::vector<ConstraintRow>& rows) {
   const Vec3 gap = affine_point(qc, xc_bar) - affine_point(qp, xp_bar);
   for (int k = 0; k < 3; ++k) {
-    ConstraintRow r;
+    ConstraintRow& r = rows.emplace_back();  // built in place: no copy of the row
     r.body_a = f.spec.child;
     r.body_b = f.spec.parent;
     r.ja[k] = 1.0;
@@ -19,7 +19,6 @@ void point_rows(const JointFrame& f, const Vec12& qc, const Vec12& qp, const Vec
     r.jb[k] = -1.0;
     r.jb.segment<3>(3 + 3 * k) = -xp_bar;
     r.value = gap[k];
-    rows.push_back(r);
   }
 }
 
@@ -29,13 +28,12 @@ void frame_rows(const JointFrame& f, const Vec12& qc, const Vec12& qp,
   const Mat3 gap = affine_A(qc) * f.basis_c - affine_A(qp) * f.basis_p;
   for (int j = 0; j < 3; ++j)
     for (int k = 0; k < 3; ++k) {
-      ConstraintRow r;
+      ConstraintRow& r = rows.emplace_back();
       r.body_a = f.spec.child;
       r.body_b = f.spec.parent;
       r.ja.segment<3>(3 + 3 * k) = f.basis_c.col(j);
       r.jb.segment<3>(3 + 3 * k) = -f.basis_p.col(j);
       r.value = gap(k, j);
-      rows.push_back(r);
     }
 }
 
@@ -46,7 +44,7 @@ void offset_rows(const JointFrame& f, const Vec12& qc, const Vec12& qp,
   const Mat3 Ap = affine_A(qp);
   for (const Vec3& n_bar : {f.normal_p, f.normal2_p}) {
     const Vec3 n = Ap * n_bar;
-    ConstraintRow r;
+    ConstraintRow& r = rows.emplace_back();
     r.body_a = f.spec.child;
     r.body_b = f.spec.parent;
     for (int k = 0; k < 3; ++k) {
@@ -57,7 +55,6 @@ void offset_rows(const JointFrame& f, const Vec12& qc, const Vec12& qp,
       r.jb.segment<3>(3 + 3 * k) = -n[k] * f.anchor_p + d[k] * n_bar;
     }
     r.value = n.dot(d);
-    rows.push_back(r);
   }
 }
 

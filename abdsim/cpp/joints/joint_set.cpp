@@ -93,8 +93,10 @@ void JointSet::reset(const VecX& q) {
 VecX JointSet::positions(const VecX& q) const {
   VecX out = VecX::Zero(nq_);
   for (int j = 0; j < size(); ++j) {
-    joint_position(frames_[j], q, out.data() + q_offset_[j]);
-    if (frames_[j].spec.kind == JointKind::kRevolute) out[q_offset_[j]] = unwrapped_angle(j, q);
+    if (frames_[j].spec.kind == JointKind::kRevolute)  // (joint_position's angle, unwrapped)
+      out[q_offset_[j]] = unwrapped_angle(j, q);
+    else
+      joint_position(frames_[j], q, out.data() + q_offset_[j]);
   }
   return out;
 }

@@ -2,9 +2,12 @@
 // padded rows of a tree node, solver/tree_kkt.h), as plain loops over compile-time sizes:
 // Eigen's triangular solves dispatch to its generic dynamic-size kernels, whose set-up costs
 // more than the arithmetic at this size. A factor L is lower-triangular and lives in the
-// lower triangle of the matrix it was computed in (the strict upper triangle is left as it
-// was and never read); the solves multiply by 1 / diag(L), which the factorisation returns
-// (a division in their dependency chain costs several multiplications).
+// lower triangle of the matrix it was computed in, with Lᵀ in the strict upper triangle
+// (so that the solves with Lᵀ also run down contiguous columns); the solves multiply by
+// 1 / diag(L), which the factorisation returns (a division in their dependency chain costs
+// several multiplications). Loops update whole 12-entry columns where that is exact (the
+// entries outside the triangle they work on are overwritten or never read): fixed-size
+// column updates vectorise, triangular ones of varying length do not.
 #pragma once
 #include <cmath>
 
@@ -12,8 +15,10 @@
 
 namespace abd::dense {
 
-// A = L Lᵀ in place over the leading n x n block (inv_diagonal: 1 there, 1 beyond); false
-// when a pivot is not positive (or not finite).
+// A = L Lᵀ in place over the leading n x n block, read from its lower triangle (inv_diagonal:
+// 1 there, 1 beyond); Lᵀ is then written to the block's strict upper triangle. The rows
+// below the block must be zero in its columns (they stay zero). False when a pivot is not
+// positive (or not finite).
 inline bool cholesky(Mat12& A, Vec12& inv_diagonal, int n = 12) {
   inv_diagonal.setOnes();
   for (int j = 0; j < n; ++j) {
@@ -21,14 +26,15 @@ inline bool cholesky(Mat12& A, Vec12& inv_diagonal, int n = 12) {
     if (!(d > 0.0) || !std::isfinite(d)) return false;
     const double l = std::sqrt(d);
     const double inv = 1.0 / l;
-    A(j, j) = l;
     inv_diagonal[j] = inv;
-    for (int i = j + 1; i < n; ++i) A(i, j) *= inv;
-    for (int k = j + 1; k < n; ++k) {
-      const double a = A(k, j);
-      for (int i = k; i < n; ++i) A(i, k) -= A(i, j) * a;
-    }
+    // Right-looking, on whole columns: rows above the diagonal of a column receive values
+    // that the transpose below overwrites.
+    A.col(j) *= inv;
+    A(j, j) = l;
+    for (int k = j + 1; k < n; ++k) A.col(k) -= A(k, j) * A.col(j);
   }
+  for (int j = 1; j < n; ++j)
+    for (int i = 0; i < j; ++i) A(i, j) = A(j, i);
   return true;
 }
 
@@ -41,12 +47,14 @@ inline void lower_solve(const Mat12& L, const Vec12& inv_diagonal, Vec12& v, int
   }
 }
 
-// v ← L⁻ᵀ v over the leading n entries.
+// v ← L⁻ᵀ v over the leading n entries, from Lᵀ in the strict upper triangle (cholesky):
+// column by column of Lᵀ, so that the updates are independent (a dot product per entry is
+// one chain of dependent additions).
 inline void upper_solve(const Mat12& L, const Vec12& inv_diagonal, Vec12& v, int n = 12) {
   for (int j = n - 1; j >= 0; --j) {
-    double x = v[j];
-    for (int i = j + 1; i < n; ++i) x -= L(i, j) * v[i];
-    v[j] = x * inv_diagonal[j];
+    const double x = v[j] * inv_diagonal[j];
+    v[j] = x;
+    for (int i = 0; i < j; ++i) v[i] -= L(i, j) * x;
   }
 }
 
@@ -74,13 +82,10 @@ inline void subtract_gram(const Mat12& V, Mat12& A) {
     for (int i = j; i < 12; ++i) A(i, j) -= V.col(i).dot(V.col(j));
 }
 
-// Lower triangle of A += v vᵀ.
+// A += v vᵀ on whole columns (the lower triangle is what the factorisation reads).
 template <class V>
-void add_outer_lower(Mat12& A, const V& v) {
-  for (int j = 0; j < 12; ++j) {
-    const double a = v[j];
-    for (int i = j; i < 12; ++i) A(i, j) += v[i] * a;
-  }
+void add_outer(Mat12& A, const V& v) {
+  for (int j = 0; j < 12; ++j) A.col(j) += v[j] * v;
 }
 
 }  // namespace abd::dense

@@ -195,7 +195,7 @@ bool TreeKkt::factor_node(int b) {
   }
   if (m > 0) {
     dense::solve_rows_of(node.LS, node.LS_inv_diagonal, Qt, m);
-    for (int k = 0; k < m; ++k) dense::add_outer_lower(parent.L, Qt.col(k));
+    for (int k = 0; k < m; ++k) dense::add_outer(parent.L, Qt.col(k));
     parent.r.noalias() -= node.JPt.lazyProduct(node.yl);
   }
   return true;
