@@ -16,6 +16,8 @@ namespace abd {
 
 // The joint's rows at q (q of every body, stacked).
 void append_joint_rows(const JointFrame& f, const VecX& q, std::vector<ConstraintRow>& rows);
+// Their values alone (the same numbers as the rows' values), in the same order.
+void append_joint_values(const JointFrame& f, const VecX& q, std::vector<ConstraintValue>& out);
 // True when the rows are linear in q.
 bool joint_rows_linear(const JointFrame& f);
 

@@ -50,6 +50,10 @@ void JointSet::linearize(const VecX& q, std::vector<ConstraintRow>& rows) const 
   for (const JointFrame& f : frames_) append_joint_rows(f, q, rows);
 }
 
+void JointSet::values(const VecX& q, std::vector<ConstraintValue>& out) const {
+  for (const JointFrame& f : frames_) append_joint_values(f, q, out);
+}
+
 void JointSet::body_links(std::vector<BodyLink>& links) const {
   for (const JointFrame& f : frames_)
     if (f.spec.parent >= 0) links.push_back({f.spec.parent, f.spec.child});

@@ -2,12 +2,12 @@
 // padded rows of a tree node, solver/tree_kkt.h), as plain loops over compile-time sizes:
 // Eigen's triangular solves dispatch to its generic dynamic-size kernels, whose set-up costs
 // more than the arithmetic at this size. A factor L is lower-triangular and lives in the
-// lower triangle of the matrix it was computed in, with Lᵀ in the strict upper triangle
-// (so that the solves with Lᵀ also run down contiguous columns); the solves multiply by
-// 1 / diag(L), which the factorisation returns (a division in their dependency chain costs
-// several multiplications). Loops update whole 12-entry columns where that is exact (the
-// entries outside the triangle they work on are overwritten or never read): fixed-size
-// column updates vectorise, triangular ones of varying length do not.
+// lower triangle of the matrix it was computed in (zeros above), with Lᵀ in a second
+// matrix; the solves multiply by 1 / diag(L), which the factorisation returns (a division in
+// their dependency chain costs several multiplications). Every loop updates whole columns
+// of fixed length (the zeros of the triangles make that exact): fixed-size column updates
+// vectorise, triangular ones of varying length do not, and a dot product per entry is one
+// chain of dependent additions.
 #pragma once
 #include <cmath>
 
@@ -16,10 +16,11 @@
 namespace abd::dense {
 
 // A = L Lᵀ in place over the leading n x n block, read from its lower triangle (inv_diagonal:
-// 1 there, 1 beyond); Lᵀ is then written to the block's strict upper triangle. The rows
-// below the block must be zero in its columns (they stay zero). False when a pivot is not
-// positive (or not finite).
-inline bool cholesky(Mat12& A, Vec12& inv_diagonal, int n = 12) {
+// 1 there, 1 beyond; the block's strict upper triangle is zeroed) and At = Aᵀ. R: the
+// column updates run over the leading R >= n rows only; the rows below the block must be
+// zero in its columns (they stay zero). False when a pivot is not positive (or not finite).
+template <int R = 12>
+bool cholesky(Mat12& A, Mat12& At, Vec12& inv_diagonal, int n = 12) {
   inv_diagonal.setOnes();
   for (int j = 0; j < n; ++j) {
     const double d = A(j, j);
@@ -28,33 +29,34 @@ inline bool cholesky(Mat12& A, Vec12& inv_diagonal, int n = 12) {
     const double inv = 1.0 / l;
     inv_diagonal[j] = inv;
     // Right-looking, on whole columns: rows above the diagonal of a column receive values
-    // that the transpose below overwrites.
-    A.col(j) *= inv;
+    // that are zeroed below.
+    A.col(j).template head<R>() *= inv;
     A(j, j) = l;
-    for (int k = j + 1; k < n; ++k) A.col(k) -= A(k, j) * A.col(j);
+    for (int k = j + 1; k < n; ++k)
+      A.col(k).template head<R>() -= A(k, j) * A.col(j).template head<R>();
   }
   for (int j = 1; j < n; ++j)
-    for (int i = 0; i < j; ++i) A(i, j) = A(j, i);
+    for (int i = 0; i < j; ++i) A(i, j) = 0.0;
+  At = A.transpose();
   return true;
 }
 
-// v ← L⁻¹ v over the leading n entries (L's leading n x n block).
+// v ← L⁻¹ v over the leading n entries (L's leading n x n block, zeros above it). Entry j
+// takes the update of column j too and is then set: the column's zeros leave the others.
 inline void lower_solve(const Mat12& L, const Vec12& inv_diagonal, Vec12& v, int n = 12) {
   for (int j = 0; j < n; ++j) {
     const double x = v[j] * inv_diagonal[j];
+    v.noalias() -= x * L.col(j);
     v[j] = x;
-    for (int i = j + 1; i < n; ++i) v[i] -= L(i, j) * x;
   }
 }
 
-// v ← L⁻ᵀ v over the leading n entries, from Lᵀ in the strict upper triangle (cholesky):
-// column by column of Lᵀ, so that the updates are independent (a dot product per entry is
-// one chain of dependent additions).
-inline void upper_solve(const Mat12& L, const Vec12& inv_diagonal, Vec12& v, int n = 12) {
+// v ← L⁻ᵀ v over the leading n entries, from Lt = Lᵀ (cholesky's At, zeros below).
+inline void upper_solve(const Mat12& Lt, const Vec12& inv_diagonal, Vec12& v, int n = 12) {
   for (int j = n - 1; j >= 0; --j) {
     const double x = v[j] * inv_diagonal[j];
+    v.noalias() -= x * Lt.col(j);
     v[j] = x;
-    for (int i = 0; i < j; ++i) v[i] -= L(i, j) * x;
   }
 }
 
@@ -68,11 +70,14 @@ inline void lower_solve(const Mat12& L, const Vec12& inv_diagonal, Mat12& X) {
 }
 
 // W ← W L⁻ᵀ over W's leading n columns (L's leading n x n block): every row w of W solves
-// L wᵀ = (its value)ᵀ, all rows at once, the inner loops running down W's columns.
-inline void solve_rows_of(const Mat12& L, const Vec12& inv_diagonal, Mat12& W, int n) {
+// L wᵀ = (its value)ᵀ, all rows at once, the inner loops running down W's columns. R: W's
+// rows past the leading R are zero (padding) and are skipped.
+template <int R = 12>
+void solve_rows_of(const Mat12& L, const Vec12& inv_diagonal, Mat12& W, int n) {
   for (int j = 0; j < n; ++j) {
-    W.col(j) *= inv_diagonal[j];
-    for (int i = j + 1; i < n; ++i) W.col(i) -= L(i, j) * W.col(j);
+    W.col(j).template head<R>() *= inv_diagonal[j];
+    for (int i = j + 1; i < n; ++i)
+      W.col(i).template head<R>() -= L(i, j) * W.col(j).template head<R>();
   }
 }
 

@@ -238,6 +238,7 @@ class World {
   std::vector<BodyBlock> blocks_;
   std::vector<HessianRow> hessian_rows_;
   std::vector<ConstraintRow> newton_rows_, projection_rows_;
+  std::vector<ConstraintValue> constraint_values_;  // project_constraints' check
   VecX projection_rows_x_;           // the x_ projection_rows_ were computed at
   bool projection_rows_valid_ = false;
   VecX rhs_;

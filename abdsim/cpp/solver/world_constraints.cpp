@@ -61,20 +61,23 @@ void World::join_constrained_islands(std::vector<unsigned char>& near) {
 bool World::project_constraints() {
   projection_rows_valid_ = false;
   if (constraints_.empty()) return false;
+  auto moves = [&](int a, int b) { return (a >= 0 && jointed_[a]) || (b >= 0 && jointed_[b]); };
+  // The check needs the values only: the rows (gradients) are built when x_ must move.
+  std::vector<ConstraintValue>& values = constraint_values_;
+  values.clear();
+  for (const auto& c : constraints_) c->values(x_, values);
+  double first = 0.0;
+  for (const ConstraintValue& v : values)
+    if (moves(v.body_a, v.body_b)) first = std::max(first, std::abs(v.value));
+  if (!(first > kProjectionTolerance)) return false;
   std::vector<ConstraintRow>& rows = projection_rows_;  // kept: no reallocation per call
   auto worst = [&]() {
     double w = 0.0;
-    for (const ConstraintRow& r : rows) {
-      const bool moves =
-          (r.body_a >= 0 && jointed_[r.body_a]) || (r.body_b >= 0 && jointed_[r.body_b]);
-      if (moves) w = std::max(w, std::abs(r.value));
-    }
+    for (const ConstraintRow& r : rows)
+      if (moves(r.body_a, r.body_b)) w = std::max(w, std::abs(r.value));
     return w;
   };
   constraint_rows(x_, rows);
-  projection_rows_x_ = x_;
-  projection_rows_valid_ = true;
-  if (!(worst() > kProjectionTolerance)) return false;
   std::vector<std::uint8_t> fixed(n_);
   for (int b = 0; b < n_; ++b) fixed[b] = !jointed_[b];
   VecX dx;
@@ -88,7 +91,8 @@ bool World::project_constraints() {
     x_ += dx;
     constraint_rows(x_, rows);
   }
-  projection_rows_x_ = x_;
+  projection_rows_x_ = x_;  // the rows at the final x_: the next Newton solve takes them
+  projection_rows_valid_ = true;
   return true;
 }
 
