@@ -69,10 +69,13 @@ void offset_rows(const JointFrame& f, const Vec12& qc, const Vec12& qp,
 
 }  // namespace
 
-void append_joint_values(const JointFrame& f, const VecX& q, std::vector<ConstraintValue>& out) {
+namespace {
+
+// add(value) for every row of the joint, in the order of append_joint_rows.
+template <class Add>
+void for_each_value(const JointFrame& f, const VecX& q, Add&& add) {
   const Vec12 qc = body_q(q, f.spec.child);
   const Vec12 qp = body_q(q, f.spec.parent);
-  auto add = [&](double v) { out.push_back({f.spec.child, f.spec.parent, v}); };
   auto add_point = [&](const Vec3& xc_bar, const Vec3& xp_bar) {
     const Vec3 gap = point_gap(qc, qp, xc_bar, xp_bar);
     for (int k = 0; k < 3; ++k) add(gap[k]);
@@ -104,6 +107,17 @@ void append_joint_values(const JointFrame& f, const VecX& q, std::vector<Constra
       break;
     }
   }
+}
+
+}  // namespace
+
+void append_joint_values(const JointFrame& f, const VecX& q, std::vector<ConstraintValue>& out) {
+  for_each_value(f, q, [&](double v) { out.push_back({f.spec.child, f.spec.parent, v}); });
+}
+
+void set_joint_row_values(const JointFrame& f, const VecX& q, ConstraintRow* rows) {
+  int k = 0;
+  for_each_value(f, q, [&](double v) { rows[k++].value = v; });
 }
 
 bool joint_rows_linear(const JointFrame& f) {
