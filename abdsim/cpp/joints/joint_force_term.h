@@ -112,6 +112,19 @@ class JointForceTerm : public EnergyTerm {
   void assemble(const VecX& q, double scale, VecX* gradient, std::vector<BodyBlock>* blocks,
                 std::vector<HessianRow>* rows) const;
 
+  // The last coordinate computed per element and the two bodies' states it was computed
+  // at: a step evaluates the joints at the same state several times (Π at the start and its
+  // derivatives there, Π at the accepted trial and the step-end energies, the next step's
+  // start). A hit returns the same bits as computing again (a function of these states
+  // alone). Evaluations are serial (the solver calls terms from one thread).
+  struct CoordinateCache {
+    bool valid = false;
+    Vec12 qc, qp;
+    double theta = 0.0;  // joint_coordinate's value (before unwrapping)
+    Vec12 gc, gp;
+  };
+  mutable std::vector<CoordinateCache> cache_;
+
   std::shared_ptr<const JointSet> joints_;
   std::vector<JointPhysics> physics_;
   std::vector<ActuatorSpec> actuators_;

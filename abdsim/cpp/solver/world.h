@@ -175,6 +175,9 @@ class World {
   // world_constraints.cpp: the rows of every constraint at x, their use in the island start,
   // the projection of x_ onto them, and their violation.
   void constraint_rows(const VecX& x, std::vector<ConstraintRow>& rows) const;
+  // The rows at x_ for a Newton solve: those of the last projection check when x_ has not
+  // moved since (an articulation's start and every iterate after a projection), else new.
+  void newton_constraint_rows(std::vector<ConstraintRow>& rows);
   void mark_jointed();
   void join_constrained_islands(std::vector<unsigned char>& near);
   // Where a jointed body heads first: q̃ + c² a with a = (x − q̃)/c² of its last solve (its
@@ -182,7 +185,8 @@ class World {
   // starts within round-off of the solution's first-order part. False when it has none.
   bool warm_guess(int b, double c2, Vec12& x) const;
   void remember_warm_start(double c2);
-  void project_constraints();
+  // True when x_ moved (the start or iterate was off its constraints beyond round-off).
+  bool project_constraints();
   void constraint_diagnostics(StepDiagnostics& d) const;
   // islands (union-find over bodies; roots are the smallest index)
   int island(int b);
@@ -241,6 +245,9 @@ class World {
   std::vector<BodyBlock> blocks_;
   std::vector<HessianRow> hessian_rows_;
   std::vector<ConstraintRow> newton_rows_, projection_rows_;
+  std::vector<ConstraintValue> constraint_values_;  // project_constraints' check
+  VecX projection_rows_x_;           // the x_ projection_rows_ were computed at
+  bool projection_rows_valid_ = false;
   VecX rhs_;
   // remember_gap: the gap, the state and the kinematic flags it was measured with.
   double gap_ = 0.0;
