@@ -14,8 +14,10 @@ MuJoCo-ready URDF (``abdsim.validation.robot_mujoco``: free joint, floor, the sa
 integrator implicitfast (its recommended one for robots: RK4 and Euler are unstable on the
 Panda's 15 g fingers with kv = 20; ``--mujoco-integrator RK4`` for the one ``abdsim
 validate`` compares with, 4 evaluations a step). Reported:
-steps/s of each, abdsim's speed as "N× MuJoCo's speed (> 1 is faster)", abdsim's smallest
-gap (contact distance over every step) and MuJoCo's largest penetration.
+steps/s of each, abdsim's speed as "N× MuJoCo's speed (> 1 is faster)" by wall clock and by
+CPU time (process time of each engine's step calls: steadier than the wall clock on a loaded
+machine, where a short MuJoCo step is preempted less often than a long abdsim one), abdsim's
+smallest gap (contact distance over every step) and MuJoCo's largest penetration.
 
 Usage: python benchmarks/robots.py [--robot solo12|go2] [--duration 1.0] [--robots 8]
                                   [--self-contact] [--mujoco-integrator RK4]
@@ -63,19 +65,23 @@ def run(world, mj, data, steps: int, integrator: str) -> dict:
     MuJoCo's largest penetration."""
     mj.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{integrator}")
     wall = {"abdsim": 0.0, "mujoco": 0.0}
+    cpu = {"abdsim": 0.0, "mujoco": 0.0}
     gap, depth = np.inf, 0.0
     for _ in range(steps):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         d = world.step()
-        t1 = time.perf_counter()
+        t1, c1 = time.perf_counter(), time.process_time()
         mujoco.mj_step(mj, data)
         wall["abdsim"] += t1 - t0
         wall["mujoco"] += time.perf_counter() - t1
+        cpu["abdsim"] += c1 - c0
+        cpu["mujoco"] += time.process_time() - c1
         gap = min(gap, float(d.min_contact_distance))
         depth = max(depth, mujoco_penetration(mj, data))
     return {
         "abdsim": steps / wall["abdsim"],
         "mujoco": steps / wall["mujoco"],
+        "cpu_speed": cpu["mujoco"] / cpu["abdsim"],
         "gap": gap,
         "penetration": depth,
     }
@@ -219,13 +225,13 @@ def main() -> None:
     )
     print(
         f"{'case':34s} {'abdsim steps/s':>15s} {'MuJoCo steps/s':>15s} {'speed':>7s} "
-        f"{'abdsim min gap (m)':>19s} {'MuJoCo max pen. (m)':>20s}"
+        f"{'CPU speed':>9s} {'abdsim min gap (m)':>19s} {'MuJoCo max pen. (m)':>20s}"
     )
     for name, case in cases:
         r = case()
         print(
             f"{name:34s} {r['abdsim']:15.1f} {r['mujoco']:15.0f} {r['abdsim'] / r['mujoco']:6.4f}× "
-            f"{r['gap']:19.3e} {r['penetration']:20.3e}",
+            f"{r['cpu_speed']:8.4f}× {r['gap']:19.3e} {r['penetration']:20.3e}",
             flush=True,
         )
 
