@@ -165,6 +165,11 @@ class IpcContactTerm : public EnergyTerm {
   void mark_friction_bodies(std::vector<unsigned char>& flags) const;
   // Sets flags[b] = 1 for every body in an active pair of the last update() (within d̂).
   void mark_active_bodies(std::vector<unsigned char>& flags) const override;
+  // Both of the above: the bodies a barrier, friction or damping element may push.
+  void mark_forced_bodies(std::vector<unsigned char>& flags) const override {
+    mark_active_bodies(flags);
+    mark_friction_bodies(flags);
+  }
 
   // The solver's generic hooks (solver/energy_term.h; ipc_contact_hooks.cpp): friction's
   // tolerances (0.1 ε_v at the surface), its lagged bodies, adaptive κ balanced at the start

@@ -327,6 +327,14 @@ void JointForceTerm::body_links(const std::vector<unsigned char>& movable,
   }
 }
 
+void JointForceTerm::mark_forced_bodies(std::vector<unsigned char>& flags) const {
+  for (const Element& e : elements_) {
+    const JointFrame& f = joints_->frame(e.joint);
+    if (f.spec.parent >= 0) flags[size_t(f.spec.parent)] = 1;
+    flags[size_t(f.spec.child)] = 1;
+  }
+}
+
 void JointForceTerm::body_max_steps(const VecX& q, const VecX& dq,
                                     const std::vector<unsigned char>& movable, VecX& bound,
                                     std::vector<unsigned char>& near,

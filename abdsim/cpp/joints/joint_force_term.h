@@ -79,6 +79,7 @@ class JointForceTerm : public EnergyTerm {
   void body_max_steps(const VecX& q, const VecX& dq, const std::vector<unsigned char>& movable,
                       VecX& bound, std::vector<unsigned char>& near,
                       std::vector<BodyLink>& links) const override;
+  void mark_forced_bodies(std::vector<unsigned char>& flags) const override;
 
   // Controls, one per actuator (clamped to ctrl ranges when used).
   VecX& ctrl() { return ctrl_; }

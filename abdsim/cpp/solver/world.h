@@ -2,6 +2,8 @@
 //   Π(q) = ½ |q − q̃|²_M + c² [ Σ_b κ_b v̄_b Ψ_b(A_b) + Σ_terms E(q) ]
 // over the stacked body state q (12 per body) by projected Newton, with
 //   BDF1: c = h,    q̃ = q_t + h q̇_t + h² g_q,              q̇_{t+1} = (q_{t+1} − q_t)/h
+//         (bodies that nothing pushes then move by −½ h² g_q: their exact parabola,
+//         world_ballistic.cpp)
 //   BDF2: c = 2h/3, q̃ = q̂ + c v̂ + c² g_q with q̂ = (4q_t − q_{t−1})/3, v̂ = (4q̇_t − q̇_{t−1})/3,
 //         q̇_{t+1} = (q_{t+1} − q̂)/c   (the first step, or the first after set_state, is BDF1).
 // Per-body flags: is_fixed (never moves), is_dynamic = 0 (quasi-static: q̃ = q_t + c² g_q),
@@ -144,6 +146,10 @@ class World {
   void remember_gap(const StepDiagnostics& d);
   // solve_step, then step_rejection; a SolverError's message is returned as the reason.
   std::string try_step(StepDiagnostics& d);
+  // world_ballistic.cpp: after a BDF1 solve, the bodies nothing pushes onto their exact
+  // parabola (x_ −= ½ h² g); and that shift undone (false if there was none).
+  void shift_ballistic_bodies();
+  bool undo_ballistic_shift();
   std::string applied_tolerances() const;  // "" or the per-body tolerances of the last solve
   bool path_crosses(const VecX& q0, const VecX& q1) const;
   // Redoes the step as 2, 4, 8, ... substeps; throws SolverError (state unchanged) if even
@@ -215,6 +221,7 @@ class World {
   std::vector<std::uint8_t> constrained_;  // fixed or (hard) kinematic during this step
   std::vector<std::uint8_t> driven_;       // kinematic, driven by the stiff spring this step
   std::vector<unsigned char> movable_;     // unknowns of this step's solve
+  std::vector<unsigned char> ballistic_;   // shifted onto the parabola (shift_ballistic_bodies)
   VecX kinematic_target_;
 
   // Per-step scratch.
