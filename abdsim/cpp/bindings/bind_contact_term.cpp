@@ -38,6 +38,27 @@ ContactRule to_rule(const py::handle& r) {
                      t.size() == 3 ? t[2].cast<double>() : -1.0};
 }
 
+py::dict body_max_steps_dict(const IpcContactTerm& t,
+                             const py::array_t<double, py::array::c_style | py::array::forcecast>& q,
+                             const py::array_t<double, py::array::c_style | py::array::forcecast>& dq) {
+  const VecX qs = flat_q(q), dqs = flat_q(dq);
+  const int n = t.mesh().num_bodies();
+  std::vector<unsigned char> movable(static_cast<size_t>(n)), near(static_cast<size_t>(n), 0);
+  for (int b = 0; b < n; ++b) movable[size_t(b)] = !t.mesh().fixed[b];
+  VecX bound = VecX::Ones(n);
+  std::vector<BodyLink> links;
+  t.body_max_steps(qs, dqs, movable, bound, near, links);
+  py::dict d;
+  d["bound"] = bound;
+  d["near"] = std::vector<bool>(near.begin(), near.end());
+  py::list pairs;
+  for (const BodyLink& l : links) pairs.append(py::make_tuple(l.a, l.b));
+  d["links"] = pairs;
+  d["candidates"] = t.swept_candidate_count();
+  d["scale"] = t.swept_scale();
+  return d;
+}
+
 std::shared_ptr<IpcContactTerm> make_term(
     const std::vector<MatX3>& vertices, const std::vector<MatX3i>& triangles,
     const std::vector<MatX2i>& edges, const std::vector<VecX>& thickness,
@@ -228,6 +249,13 @@ void bind_contact_term(py::module_& m) {
           py::arg("q"), "[(row body, column body, 12x12 block)].")
       .def("max_step", [](const IpcContactTerm& t, Q q, Q dq) { return t.max_step(flat_q(q), flat_q(dq)); },
            py::arg("q"), py::arg("dq"))
+      .def("body_max_steps", &body_max_steps_dict, py::arg("q"), py::arg("dq"),
+           "Per-body step bounds of the move q -> q + dq (every non-fixed body movable): dict "
+           "of bound (n,), near (n,), links [(a, b)], candidates (kept by the sweep) and "
+           "scale (n,): the share of dq each body's checked move took.")
+      .def_property("max_candidates", &IpcContactTerm::max_candidates,
+                    &IpcContactTerm::set_max_candidates,
+                    "the most candidate pairs one broad-phase query may collect")
       .def("min_distance",
            [](const IpcContactTerm& t, Q q, double max_distance) {
              return t.min_distance(flat_q(q), max_distance);

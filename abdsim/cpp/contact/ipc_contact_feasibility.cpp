@@ -16,22 +16,6 @@ using namespace contact;
 
 namespace {
 
-// Time of impact of one candidate pair moving linearly from x0 to x1.
-double candidate_toi(const ContactStencil& s, const std::vector<Vec3>& x0,
-                     const std::vector<Vec3>& x1, double ground_height, CcdOptions o) {
-  o.min_distance = s.xi;
-  const auto& v = s.vertices;
-  switch (s.kind) {
-    case StencilKind::PointTriangle:
-      return point_triangle_ccd(x0[v[0]], x0[v[1]], x0[v[2]], x0[v[3]], x1[v[0]], x1[v[1]],
-                                x1[v[2]], x1[v[3]], o);
-    case StencilKind::EdgeEdge:
-      return edge_edge_ccd(x0[v[0]], x0[v[1]], x0[v[2]], x0[v[3]], x1[v[0]], x1[v[1]], x1[v[2]],
-                           x1[v[3]], o);
-    default: return point_ground_ccd(x0[v[0]], x1[v[0]], ground_height, o);
-  }
-}
-
 std::string describe(const ContactStencil& s) {
   std::ostringstream os;
   switch (s.kind) {
@@ -48,46 +32,15 @@ std::string describe(const ContactStencil& s) {
 
 }  // namespace
 
-// Candidate pairs of the straight move x0 → x1 that come within `margin` (beyond their
-// thickness), and their ACCD times of impact (1: none on the step).
-void IpcContactTerm::swept_tois(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1,
-                                double margin, std::vector<ContactStencil>& stencils,
-                                std::vector<double>& toi, Candidates* keep) const {
-  BroadPhaseQuery query;
-  query.margin = margin;
-  query.ground = settings_.ground;
-  query.ground_height = settings_.ground_height;
-  const Candidates c =
-      timed(broad_phase_seconds_, [&] { return broad_phase_.query_swept(x0, x1, query); });
-  stencils.clear();
-  stencils.reserve(c.point_triangle.size() + c.edge_edge.size() + c.point_ground.size());
-  for (const auto& [v, f] : c.point_triangle) stencils.push_back(point_triangle_stencil(mesh_, v, f, 0.0));
-  for (const auto& [a, b] : c.edge_edge) stencils.push_back(edge_edge_stencil(mesh_, a, b, 0.0));
-  for (int v : c.point_ground) stencils.push_back(point_ground_stencil(mesh_, v, 0.0));
-  if (keep) *keep = c;
-
-  CcdOptions options;
-  options.target = settings_.ccd_target;
-  const int n = int(stencils.size());
-  toi.assign(size_t(n), 1.0);
-  for_each_stencil(n, n >= kMinParallelCcd, threads_, [&](int i) {
-    // Pairs that do not move relative to each other keep their distance: no CCD needed.
-    const ContactStencil& s = stencils[size_t(i)];
-    bool moving = false;
-    for (int k = 0; k < s.nv && !moving; ++k) moving = x0[s.vertices[k]] != x1[s.vertices[k]];
-    if (moving) toi[size_t(i)] = candidate_toi(s, x0, x1, settings_.ground_height, options);
-  });
-}
-
 double IpcContactTerm::max_step(const VecX& q, const VecX& dq) const {
   if (dq.size() != q.size()) throw std::invalid_argument("max_step: dq must have the size of q");
-  std::vector<ContactStencil> stencils;
-  std::vector<double> toi;
-  // margin 0: only the thickness must stay clear
-  std::vector<Vec3> scratch;
-  swept_tois(vertices_at(q, scratch), mesh_.world_vertices(q + dq), 0.0, stencils, toi);
+  // margin 0: only the thickness must stay clear. All bodies take one step length: it stays
+  // within every body's checked (possibly shortened) move.
+  const Sweep sweep = bounded_sweep(q, dq, 0.0);
   double alpha = 1.0;
-  for (double t : toi) alpha = std::min(alpha, t);
+  for (double t : sweep.toi) alpha = std::min(alpha, t);
+  for (int b = 0; b < mesh_.num_bodies(); ++b)
+    if (dq.segment<12>(12 * b).any()) alpha = std::min(alpha, sweep.scale[size_t(b)]);
   return alpha;
 }
 
@@ -99,24 +52,29 @@ void IpcContactTerm::body_max_steps(const VecX& q, const VecX& dq,
   if (dq.size() != q.size() || bound.size() != nb || int(near.size()) != nb ||
       int(movable.size()) != nb)
     throw std::invalid_argument("body_max_steps: dq, bound, near and movable must match q");
-  std::vector<ContactStencil> stencils;
-  std::vector<double> toi;
-  // within reach of the barrier anywhere on the path
+  // within reach of the barrier anywhere on the (checked part of the) path
   swept_.valid = false;
-  std::vector<Vec3> scratch;
-  swept_tois(vertices_at(q, scratch), mesh_.world_vertices(q + dq), settings_.d_hat, stencils,
-             toi, &swept_.candidates);
+  Sweep sweep = bounded_sweep(q, dq, settings_.d_hat);
   swept_.q0 = q;
   swept_.dq = dq;
+  for (int b = 0; b < nb; ++b) {
+    const double s = sweep.scale[size_t(b)];
+    if (s == 1.0) continue;
+    swept_.dq.segment<12>(12 * b) *= s;
+    // A shortened body's step stops where its check did.
+    if (movable[b]) bound[b] = std::min(bound[b], s);
+  }
+  swept_.candidates = std::move(sweep.candidates);
+  swept_.scale = std::move(sweep.scale);
   swept_.valid = true;
-  const int n = int(stencils.size());
+  const int n = int(sweep.stencils.size());
   for (int i = 0; i < n; ++i) {
-    const ContactStencil& s = stencils[size_t(i)];
+    const ContactStencil& s = sweep.stencils[size_t(i)];
     const int a = s.bodies[0], b = s.bodies[1];
     for (int body : {a, b}) {
       if (body < 0 || !movable[body]) continue;
       near[body] = 1;
-      bound[body] = std::min(bound[body], toi[size_t(i)]);
+      bound[body] = std::min(bound[body], sweep.toi[size_t(i)]);
     }
     if (b >= 0 && a != b && movable[a] && movable[b]) links.push_back({a, b});
   }
@@ -152,7 +110,7 @@ void IpcContactTerm::check_initial(const VecX& q) const {
   query.ground = settings_.ground;
   query.ground_height = settings_.ground_height;
   query.edge_triangle = true;
-  const Candidates c = timed(broad_phase_seconds_, [&] { return broad_phase_.query(x, query); });
+  const Candidates c = bounded_query(x, query);
 
   for (const auto& [e, f] : c.edge_triangle) {
     const auto& ev = mesh_.edges[e];

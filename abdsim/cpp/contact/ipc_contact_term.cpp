@@ -100,6 +100,8 @@ IpcContactTerm::IpcContactTerm(const SceneData& scene, const ContactSettings& se
   }
   friction_eps_ = settings_.eps_v * dt_;
   prev_min_gap_ = std::numeric_limits<double>::infinity();
+  const size_t primitives = mesh_.rest.size() + mesh_.edges.size() + mesh_.faces.size();
+  max_candidates_ = std::max(max_candidates_, 2 * primitives);
 }
 
 bool IpcContactTerm::bodies_may_collide(int a, int b) const {
@@ -135,8 +137,7 @@ ActiveSet IpcContactTerm::build_active_set(const VecX& q, double reach) const {
   if (reach == settings_.d_hat && on_swept_path(q))
     return select_active(mesh_, table_, swept_.candidates, q, std::move(x), reach,
                          settings_.ground_height);
-  const Candidates candidates =
-      timed(broad_phase_seconds_, [&] { return broad_phase_.query(x, query); });
+  const Candidates candidates = bounded_query(x, query);
   return select_active(mesh_, table_, candidates, q, std::move(x), reach, settings_.ground_height);
 }
 

@@ -110,6 +110,18 @@ class IpcContactTerm : public EnergyTerm {
                       VecX& bound, std::vector<unsigned char>& near,
                       std::vector<BodyLink>& links) const override;
 
+  // The most candidate pairs one broad-phase query may collect (memory: ~90 bytes each
+  // with its stencil and time of impact). Default: 2 per primitive, at least 2^20. A swept
+  // query over this shortens the move (body_max_steps); a query at one configuration over
+  // it throws SolverError.
+  size_t max_candidates() const { return max_candidates_; }
+  void set_max_candidates(size_t n);
+  // Candidates kept by the last body_max_steps, and the fraction of its dq each body's
+  // checked move took (1: all of it; < 1: shortened to keep the sweep within
+  // max_candidates). Empty before any.
+  size_t swept_candidate_count() const { return swept_.valid ? swept_.candidates.size() : 0; }
+  const std::vector<double>& swept_scale() const { return swept_.scale; }
+
   // Smallest gap d − ξ between primitives (and to the ground) that is below max_distance
   // (<= 0: d̂); +inf when nothing is that close.
   double min_distance(const VecX& q, double max_distance = -1.0) const;
@@ -204,9 +216,21 @@ class IpcContactTerm : public EnergyTerm {
                        std::vector<BodyBlock>& blocks) const;
   void lag_dissipation();  // friction_ and damping_ from active_ and the reference point
   std::vector<double> inverse_masses() const;
-  void swept_tois(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1, double margin,
-                  std::vector<contact::ContactStencil>& stencils, std::vector<double>& toi,
-                  contact::Candidates* keep = nullptr) const;
+  // The candidates of a query at one configuration; SolverError beyond max_candidates_.
+  contact::Candidates bounded_query(const std::vector<Vec3>& x,
+                                    const contact::BroadPhaseQuery& query) const;
+  // A swept query of the move q → q + dq within max_candidates_ (ipc_contact_sweep.cpp):
+  // bodies that move far get a shortened move q_b + scale_b dq_b (scale_b in (0, 1]) until
+  // the query fits; each candidate's time of impact is a fraction of the pair's common
+  // shortened move (the smaller scale of its two bodies). SolverError when even tiny moves
+  // overflow.
+  struct Sweep {
+    std::vector<contact::ContactStencil> stencils;
+    std::vector<double> toi;         // per stencil: step bound as a fraction of the full dq
+    std::vector<double> scale;       // per body
+    contact::Candidates candidates;
+  };
+  Sweep bounded_sweep(const VecX& q, const VecX& dq, double margin) const;
   // True when every body of q lies on its segment of the last body_max_steps move:
   // q_b = q0_b + t_b dq_b with t_b in [0, 1] (to rounding).
   bool on_swept_path(const VecX& q) const;
@@ -229,11 +253,13 @@ class IpcContactTerm : public EnergyTerm {
   // segment (each primitive's box there lies inside its swept box), so the line search's
   // active sets take them instead of querying the broad phase at every trial.
   struct SweptCandidates {
-    VecX q0, dq;
+    VecX q0, dq;  // dq: each body's checked (possibly shortened) move
     contact::Candidates candidates;
+    std::vector<double> scale;  // per body: its share of the full dq (bounded_sweep)
     bool valid = false;
   };
   mutable SweptCandidates swept_;
+  size_t max_candidates_ = size_t(1) << 20;  // see max_candidates()
   std::vector<char> scripted_;  // per body, see set_scripted
   int threads_ = 1;
   contact::ActiveSet active_;

@@ -1,6 +1,7 @@
 #include "contact/broad_phase/broad_phase.h"
 
 #include <algorithm>
+#include <limits>
 
 #include "contact/broad_phase/bvh_traversal.h"
 
@@ -16,6 +17,9 @@ void sort_unique(std::vector<T>& v) {
 bool shares_vertex(const std::array<int, 2>& e, const std::array<int, 2>& f) {
   return e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1];
 }
+
+// Thrown by take() when a query's room is spent; collect() catches it.
+struct Overflow {};
 
 template <size_t N>
 bool contains(const std::array<int, N>& prim, int v) {
@@ -113,22 +117,16 @@ Candidates BroadPhase::collect(const std::vector<Vec3>& x0, const std::vector<Ve
     }
     boxes[b] = coal::AABB(Vec3(lo.array() - grow), Vec3(hi.array() + grow));
   }
-  for (const auto& [a, b] : body_pairs_.overlapping(boxes))
-    if (may_collide_(a, b)) {
-      fit(a);
-      fit(b);
-      collect_pair(a, b, q.margin + mesh_.body_thickness[a] + mesh_.body_thickness[b], q, out);
-    }
-  for (int b = 0; b < n; ++b) {
-    if (mesh_.self_collision[b] && may_collide_(b, b)) {
-      fit(b);
-      collect_self(b, q.margin + 2.0 * mesh_.body_thickness[b], q, out);
-    }
-    const double z_max = q.ground_height + q.margin + mesh_.body_thickness[b];
-    // boxes[b].min_ z is (at most) the lowest vertex minus half the margin and the thickness.
-    if (q.ground && boxes[b].min_[2] + 0.5 * q.margin + mesh_.body_thickness[b] <= z_max &&
-        may_collide_(b, -1))
-      collect_ground(b, z_max, out);
+  room_ = q.max_candidates > 0 ? q.max_candidates : std::numeric_limits<size_t>::max();
+  try {
+    collect_all(boxes, q, out);
+  } catch (const Overflow&) {
+    const std::array<int, 2> where = out.overflow_bodies;
+    out = Candidates{};  // what was collected is partial: of no use to the caller
+    out.overflow = true;
+    out.overflow_bodies = where;
+    x0_ = x1_ = nullptr;
+    return out;
   }
   sort_unique(out.point_triangle);
   sort_unique(out.edge_edge);
@@ -138,13 +136,49 @@ Candidates BroadPhase::collect(const std::vector<Vec3>& x0, const std::vector<Ve
   return out;
 }
 
+// The body pairs, self-collisions and the ground of one query (boxes: the bodies' boxes).
+// out.overflow_bodies follows what is being collected, for the overflow report.
+void BroadPhase::collect_all(const std::vector<coal::AABB>& boxes, const BroadPhaseQuery& q,
+                             Candidates& out) {
+  const int n = mesh_.num_bodies();
+  for (const auto& [a, b] : body_pairs_.overlapping(boxes))
+    if (may_collide_(a, b)) {
+      out.overflow_bodies = {a, b};
+      fit(a);
+      fit(b);
+      collect_pair(a, b, q.margin + mesh_.body_thickness[a] + mesh_.body_thickness[b], q, out);
+    }
+  for (int b = 0; b < n; ++b) {
+    if (mesh_.self_collision[b] && may_collide_(b, b)) {
+      out.overflow_bodies = {b, b};
+      fit(b);
+      collect_self(b, q.margin + 2.0 * mesh_.body_thickness[b], q, out);
+    }
+    const double z_max = q.ground_height + q.margin + mesh_.body_thickness[b];
+    // boxes[b].min_ z is (at most) the lowest vertex minus half the margin and the thickness.
+    if (q.ground && boxes[b].min_[2] + 0.5 * q.margin + mesh_.body_thickness[b] <= z_max &&
+        may_collide_(b, -1)) {
+      out.overflow_bodies = {b, -1};
+      collect_ground(b, z_max, out);
+    }
+  }
+}
+
+void BroadPhase::take() const {
+  if (room_ == 0) throw Overflow{};
+  --room_;
+}
+
 void BroadPhase::collect_ground(int b, double z_max, Candidates& out) const {
   const std::vector<Vec3>& x0 = *x0_;
   const int first = mesh_.vertex_offset[b];
   if (!affine_[b]) {  // a pass over the vertices (lowest of x0, x1) costs what a refit would
     for (int v = first; v < mesh_.vertex_offset[b + 1]; ++v) {
       const double z = x1_ ? std::min(x0[v].z(), (*x1_)[v].z()) : x0[v].z();
-      if (z <= z_max) out.point_ground.push_back(v);
+      if (z <= z_max) {
+        take();
+        out.point_ground.push_back(v);
+      }
     }
     return;
   }
@@ -158,6 +192,7 @@ void BroadPhase::collect_ground(int b, double z_max, Candidates& out) const {
     if (t.node(i).min_[2] > z_max) continue;
     const auto& node = t.tree->getBV(unsigned(i));
     if (node.isLeaf()) {
+      take();
       out.point_ground.push_back(first + node.primitiveId());
     } else {
       stack.push_back(node.rightChild());
@@ -175,6 +210,7 @@ void BroadPhase::collect_pair(int a, int b, double margin, const BroadPhaseQuery
     if (!T.faces()) return;
     for_each_close_leaf_pair(tree_boxes(p_body, P.vertices()), tree_boxes(t_body, T.faces()),
                              margin, [&](int v, int f) {
+      take();
       out.point_triangle.push_back({m.vertex_offset[p_body] + v, m.face_offset[t_body] + f});
     });
   };
@@ -183,6 +219,7 @@ void BroadPhase::collect_pair(int a, int b, double margin, const BroadPhaseQuery
   if (A.edges() && B.edges())
     for_each_close_leaf_pair(tree_boxes(a, A.edges()), tree_boxes(b, B.edges()), margin,
                              [&](int i, int j) {
+      take();
       out.edge_edge.push_back({m.edge_offset[a] + i, m.edge_offset[b] + j});
     });
   if (!q.edge_triangle) return;
@@ -190,6 +227,7 @@ void BroadPhase::collect_pair(int a, int b, double margin, const BroadPhaseQuery
     if (!E.edges() || !T.faces()) return;
     for_each_close_leaf_pair(tree_boxes(e_body, E.edges()), tree_boxes(t_body, T.faces()),
                              q.margin, [&](int e, int f) {
+      take();
       out.edge_triangle.push_back({m.edge_offset[e_body] + e, m.face_offset[t_body] + f});
     });
   };
@@ -205,20 +243,27 @@ void BroadPhase::collect_self(int a, double margin, const BroadPhaseQuery& q,
     for_each_close_leaf_pair(tree_boxes(a, A.vertices()), tree_boxes(a, A.faces()), margin,
                              [&](int v, int f) {
       const int gv = m.vertex_offset[a] + v, gf = m.face_offset[a] + f;
-      if (!contains(m.faces[gf], gv)) out.point_triangle.push_back({gv, gf});
+      if (contains(m.faces[gf], gv)) return;
+      take();
+      out.point_triangle.push_back({gv, gf});
     });
   if (A.edges())
     for_each_close_leaf_pair(tree_boxes(a, A.edges()), tree_boxes(a, A.edges()), margin,
                              [&](int i, int j) {
       const int ei = m.edge_offset[a] + i, ej = m.edge_offset[a] + j;
-      if (ei < ej && !shares_vertex(m.edges[ei], m.edges[ej])) out.edge_edge.push_back({ei, ej});
+      if (ei >= ej || shares_vertex(m.edges[ei], m.edges[ej])) return;
+      take();
+      out.edge_edge.push_back({ei, ej});
     });
   if (q.edge_triangle && A.edges() && A.faces())
     for_each_close_leaf_pair(tree_boxes(a, A.edges()), tree_boxes(a, A.faces()), q.margin,
                              [&](int i, int f) {
       const int e = m.edge_offset[a] + i, gf = m.face_offset[a] + f;
       if (!contains(m.faces[gf], m.edges[e][0]) && !contains(m.faces[gf], m.edges[e][1]))
+      {
+        take();
         out.edge_triangle.push_back({e, gf});
+      }
     });
 }
 

@@ -33,6 +33,14 @@ struct Candidates {
   std::vector<std::array<int, 2>> edge_edge;       // (global edge, global edge), first < second
   std::vector<int> point_ground;                   // global vertex
   std::vector<std::array<int, 2>> edge_triangle;   // (global edge, global face): intersections
+  // The query stopped at BroadPhaseQuery::max_candidates pairs (the lists above are then
+  // empty): the bodies of the pair it was collecting (b = -1: the ground).
+  bool overflow = false;
+  std::array<int, 2> overflow_bodies{-1, -1};
+
+  size_t size() const {
+    return point_triangle.size() + edge_edge.size() + point_ground.size() + edge_triangle.size();
+  }
 };
 
 struct BroadPhaseQuery {
@@ -40,6 +48,10 @@ struct BroadPhaseQuery {
   bool ground = false;         // also vertices near the ground half-space z >= ground_height
   double ground_height = 0.0;
   bool edge_triangle = false;  // also edge–triangle pairs (initial intersection check)
+  // At most this many pairs (0: no limit): a query that would collect more stops early and
+  // says so (Candidates::overflow) instead of growing its lists without bound (a swept query
+  // of a body moving far through dense meshes finds hundreds of millions of box pairs).
+  size_t max_candidates = 0;
 };
 
 class BroadPhase {
@@ -64,6 +76,8 @@ class BroadPhase {
                      const BroadPhaseQuery& q);
   bool map_affine(int b);  // recovers b's maps (once per query); false: b must be refit
   void fit(int b);
+  void collect_all(const std::vector<coal::AABB>& boxes, const BroadPhaseQuery& q,
+                   Candidates& out);
   void collect_ground(int b, double z_max, Candidates& out) const;
   TreeBoxes tree_boxes(int b, const Bvh* tree) const;
   void collect_pair(int a, int b, double margin, const BroadPhaseQuery& q, Candidates& out) const;
@@ -80,6 +94,9 @@ class BroadPhase {
   const std::vector<Vec3>* x1_ = nullptr;
   std::vector<char> fitted_, affine_;
   std::vector<AffineMap> map0_, map1_;
+  // Pairs the query may still collect (BroadPhaseQuery::max_candidates); take() spends one.
+  mutable size_t room_ = 0;
+  void take() const;
   BodyPairFinder body_pairs_;
 };
 

@@ -1,0 +1,143 @@
+// IpcContactTerm: broad-phase queries with bounded memory. A Newton direction can move a
+// body far (a wild trial moved robot links 0.2 m in one iteration); the swept query of such a
+// move through dense meshes finds hundreds of millions of box pairs (std::bad_alloc). The
+// move is shortened for the bodies that move farthest until the query fits: a shorter move
+// still gives conservative step bounds (the solver never steps past a body's checked part).
+#include <algorithm>
+#include <sstream>
+
+#include "contact/ccd/additive_ccd.h"
+#include "contact/ground/ground_plane.h"
+#include "contact/ipc_contact_term.h"
+#include "contact/parallel.h"
+#include "solver/diagnostics.h"
+
+namespace abd {
+using namespace contact;
+
+namespace {
+
+// Shortening rounds: each cuts the largest move by 4 (4^-16 ≈ 2e-10 of it).
+constexpr int kMaxShortenings = 16;
+
+// Time of impact of a stencil whose vertices move linearly from p0 to p1.
+double stencil_toi(const ContactStencil& s, const std::array<Vec3, 4>& p0,
+                   const std::array<Vec3, 4>& p1, double ground_height, CcdOptions o) {
+  o.min_distance = s.xi;
+  switch (s.kind) {
+    case StencilKind::PointTriangle:
+      return point_triangle_ccd(p0[0], p0[1], p0[2], p0[3], p1[0], p1[1], p1[2], p1[3], o);
+    case StencilKind::EdgeEdge:
+      return edge_edge_ccd(p0[0], p0[1], p0[2], p0[3], p1[0], p1[1], p1[2], p1[3], o);
+    default: return point_ground_ccd(p0[0], p1[0], ground_height, o);
+  }
+}
+
+std::string overflow_message(const Candidates& c, size_t cap, const char* what) {
+  std::ostringstream os;
+  os << "contact broad phase: " << what << " found more than " << cap
+     << " candidate pairs (bodies " << c.overflow_bodies[0] << " and ";
+  if (c.overflow_bodies[1] < 0)
+    os << "the ground";
+  else
+    os << c.overflow_bodies[1];
+  os << "); set_max_candidates raises the limit";
+  return os.str();
+}
+
+}  // namespace
+
+void IpcContactTerm::set_max_candidates(size_t n) {
+  if (n == 0) throw std::invalid_argument("set_max_candidates: the limit must be > 0");
+  max_candidates_ = n;
+  swept_.valid = false;
+}
+
+Candidates IpcContactTerm::bounded_query(const std::vector<Vec3>& x,
+                                         const BroadPhaseQuery& query) const {
+  BroadPhaseQuery q = query;
+  q.max_candidates = max_candidates_;
+  Candidates c = timed(broad_phase_seconds_, [&] { return broad_phase_.query(x, q); });
+  if (c.overflow) throw SolverError(overflow_message(c, max_candidates_, "a query"));
+  return c;
+}
+
+IpcContactTerm::Sweep IpcContactTerm::bounded_sweep(const VecX& q, const VecX& dq,
+                                                    double margin) const {
+  const int nb = mesh_.num_bodies();
+  std::vector<Vec3> scratch;
+  const std::vector<Vec3>& x0 = vertices_at(q, scratch);
+  const std::vector<Vec3> x_end = mesh_.world_vertices(q + dq);
+  // The largest vertex move of each body (vertices are linear in q: a shortened move
+  // q_b + s dq_b takes each vertex to x0 + s (x_end − x0)); only needed, and computed, once a
+  // query overflows.
+  std::vector<double> reach;
+  auto largest_moves = [&] {
+    reach.assign(size_t(nb), 0.0);
+    for (int b = 0; b < nb; ++b)
+      for (int v = mesh_.vertex_offset[b]; v < mesh_.vertex_offset[b + 1]; ++v)
+        reach[size_t(b)] = std::max(reach[size_t(b)], (x_end[v] - x0[v]).norm());
+  };
+
+  BroadPhaseQuery query;
+  query.margin = margin;
+  query.ground = settings_.ground;
+  query.ground_height = settings_.ground_height;
+  query.max_candidates = max_candidates_;
+  Sweep out;
+  out.scale.assign(size_t(nb), 1.0);
+  std::vector<Vec3> shortened;  // x1 once a body's move is cut (until then: x_end)
+  for (int round = 0;; ++round) {
+    const std::vector<Vec3>& x1 = shortened.empty() ? x_end : shortened;
+    out.candidates = timed(broad_phase_seconds_, [&] { return broad_phase_.query_swept(x0, x1, query); });
+    if (!out.candidates.overflow) break;
+    if (reach.empty()) {
+      largest_moves();
+      shortened = x_end;
+    }
+    double longest = 0.0;
+    for (int b = 0; b < nb; ++b) longest = std::max(longest, out.scale[size_t(b)] * reach[size_t(b)]);
+    if (round == kMaxShortenings || longest == 0.0)
+      throw SolverError(overflow_message(out.candidates, max_candidates_, "a swept query"));
+    // Every body that moves farther than a quarter of the longest move is cut to it.
+    const double limit = 0.25 * longest;
+    for (int b = 0; b < nb; ++b) {
+      double& s = out.scale[size_t(b)];
+      if (s * reach[size_t(b)] <= limit) continue;
+      s = limit / reach[size_t(b)];
+      for (int v = mesh_.vertex_offset[b]; v < mesh_.vertex_offset[b + 1]; ++v)
+        shortened[v] = x0[v] + s * (x_end[v] - x0[v]);
+    }
+  }
+
+  const Candidates& c = out.candidates;
+  std::vector<ContactStencil>& stencils = out.stencils;
+  stencils.reserve(c.point_triangle.size() + c.edge_edge.size() + c.point_ground.size());
+  for (const auto& [v, f] : c.point_triangle) stencils.push_back(point_triangle_stencil(mesh_, v, f, 0.0));
+  for (const auto& [a, b] : c.edge_edge) stencils.push_back(edge_edge_stencil(mesh_, a, b, 0.0));
+  for (int v : c.point_ground) stencils.push_back(point_ground_stencil(mesh_, v, 0.0));
+
+  CcdOptions options;
+  options.target = settings_.ccd_target;
+  const int n = int(stencils.size());
+  out.toi.assign(size_t(n), 1.0);
+  for_each_stencil(n, n >= kMinParallelCcd, threads_, [&](int i) {
+    const ContactStencil& s = stencils[size_t(i)];
+    // Both bodies of a pair move together (one island, one step length): along the shorter
+    // of their two checked moves.
+    double m = out.scale[size_t(s.bodies[0])];
+    if (s.bodies[1] >= 0) m = std::min(m, out.scale[size_t(s.bodies[1])]);
+    std::array<Vec3, 4> p0, p1;
+    bool moving = false;  // pairs that do not move keep their distance: no CCD needed
+    for (int k = 0; k < s.nv; ++k) {
+      const int v = s.vertices[size_t(k)];
+      p0[size_t(k)] = x0[v];
+      p1[size_t(k)] = m == 1.0 ? x_end[v] : Vec3(x0[v] + m * (x_end[v] - x0[v]));
+      moving = moving || p0[size_t(k)] != p1[size_t(k)];
+    }
+    out.toi[size_t(i)] = m * (moving ? stencil_toi(s, p0, p1, settings_.ground_height, options) : 1.0);
+  });
+  return out;
+}
+
+}  // namespace abd
