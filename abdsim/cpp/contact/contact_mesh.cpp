@@ -86,15 +86,20 @@ ContactMesh ContactMesh::from_scene(const SceneData& scene) {
 }
 
 std::vector<Vec3> ContactMesh::world_vertices(const VecX& q) const {
+  std::vector<Vec3> x;
+  world_vertices_into(q, x);
+  return x;
+}
+
+void ContactMesh::world_vertices_into(const VecX& q, std::vector<Vec3>& x) const {
   if (q.size() != 12 * num_bodies())
     throw std::invalid_argument("q has " + std::to_string(q.size()) + " values, expected 12 x " +
                                 std::to_string(num_bodies()) + " bodies");
-  std::vector<Vec3> x(rest.size());
+  x.resize(rest.size());
   for (int b = 0; b < num_bodies(); ++b) {
     const Vec12 qb = q.segment<12>(12 * b);
     for (int i = vertex_offset[b]; i < vertex_offset[b + 1]; ++i) x[i] = affine_point(qb, rest[i]);
   }
-  return x;
 }
 
 double ContactMesh::edge_thickness(int e) const {

@@ -34,6 +34,8 @@ struct ContactMesh {
 
   // World positions of every vertex for the stacked body state q (12 per body).
   std::vector<Vec3> world_vertices(const VecX& q) const;
+  // The same into `x` (resized; its storage is reused from call to call).
+  void world_vertices_into(const VecX& q, std::vector<Vec3>& x) const;
 
   // Largest r among a primitive's vertices: a primitive's thickness.
   double edge_thickness(int e) const;

@@ -65,9 +65,9 @@ Candidates IpcContactTerm::bounded_query(const std::vector<Vec3>& x,
 IpcContactTerm::Sweep IpcContactTerm::bounded_sweep(const VecX& q, const VecX& dq,
                                                     double margin) const {
   const int nb = mesh_.num_bodies();
-  std::vector<Vec3> scratch;
-  const std::vector<Vec3>& x0 = vertices_at(q, scratch);
-  const std::vector<Vec3> x_end = mesh_.world_vertices(q + dq);
+  const std::vector<Vec3>& x0 = vertices_at(q, sweep_start_);
+  std::vector<Vec3>& x_end = sweep_end_;
+  mesh_.world_vertices_into(q + dq, x_end);
   // The largest vertex move of each body (vertices are linear in q: a shortened move
   // q_b + s dq_b takes each vertex to x0 + s (x_end − x0)); only needed, and computed, once a
   // query overflows.

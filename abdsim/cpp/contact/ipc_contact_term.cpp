@@ -153,7 +153,7 @@ const std::vector<Vec3>& IpcContactTerm::vertices_at(const VecX& q,
   const ActiveSet* known[] = {&active_, &last_built_};
   for (const ActiveSet* s : known)
     if (s->q.size() == q.size() && s->x.size() == mesh_.rest.size() && s->q == q) return s->x;
-  scratch = mesh_.world_vertices(q);
+  mesh_.world_vertices_into(q, scratch);
   return scratch;
 }
 

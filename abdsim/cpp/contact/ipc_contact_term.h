@@ -259,6 +259,9 @@ class IpcContactTerm : public EnergyTerm {
     bool valid = false;
   };
   mutable SweptCandidates swept_;
+  // bounded_sweep's vertex buffers, kept to spare a large allocation per sweep (the term is
+  // never evaluated from two threads at once).
+  mutable std::vector<Vec3> sweep_start_, sweep_end_;
   size_t max_candidates_ = size_t(1) << 20;  // see max_candidates()
   std::vector<char> scripted_;  // per body, see set_scripted
   int threads_ = 1;

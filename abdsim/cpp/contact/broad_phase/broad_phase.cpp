@@ -7,6 +7,8 @@
 
 namespace abd::contact {
 namespace {
+// Bodies with more vertices than this take their broad-phase box from their affine map.
+constexpr int kMappedBoxVertices = 64;
 
 template <class T>
 void sort_unique(std::vector<T>& v) {
@@ -103,16 +105,27 @@ Candidates BroadPhase::collect(const std::vector<Vec3>& x0, const std::vector<Ve
   // Each body's box (around its vertices, at x0 and x1 when swept) grows by half the margin
   // plus its own thickness, so two boxes overlap whenever their bodies may be within
   // margin + r_a + r_b.
+  // A body of many vertices takes the box of its rest tree's root under its affine map(s)
+  // (O(1), a little larger than its vertices' box) instead of a pass over its vertices: a
+  // 5,000-vertex robot spent a tenth of its step in that pass.
   std::vector<coal::AABB> boxes(static_cast<size_t>(n));
   for (int b = 0; b < n; ++b) {
     const double grow = 0.5 * q.margin + mesh_.body_thickness[b];
-    Vec3 lo = x0[mesh_.vertex_offset[b]], hi = lo;
-    for (int v = mesh_.vertex_offset[b]; v < mesh_.vertex_offset[b + 1]; ++v) {
-      lo = lo.cwiseMin(x0[v]);
-      hi = hi.cwiseMax(x0[v]);
-      if (x1) {
-        lo = lo.cwiseMin((*x1)[v]);
-        hi = hi.cwiseMax((*x1)[v]);
+    Vec3 lo, hi;
+    const bool many = mesh_.vertex_offset[b + 1] - mesh_.vertex_offset[b] > kMappedBoxVertices;
+    if (many && bvhs_[b]->vertices() && map_affine(b)) {
+      const coal::AABB root = tree_boxes(b, bvhs_[b]->vertices()).node(0);
+      lo = root.min_;
+      hi = root.max_;
+    } else {
+      lo = hi = x0[mesh_.vertex_offset[b]];
+      for (int v = mesh_.vertex_offset[b]; v < mesh_.vertex_offset[b + 1]; ++v) {
+        lo = lo.cwiseMin(x0[v]);
+        hi = hi.cwiseMax(x0[v]);
+        if (x1) {
+          lo = lo.cwiseMin((*x1)[v]);
+          hi = hi.cwiseMax((*x1)[v]);
+        }
       }
     }
     boxes[b] = coal::AABB(Vec3(lo.array() - grow), Vec3(hi.array() + grow));
