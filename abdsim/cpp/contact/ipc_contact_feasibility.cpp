@@ -58,7 +58,7 @@ void IpcContactTerm::swept_tois(const std::vector<Vec3>& x0, const std::vector<V
   query.ground = settings_.ground;
   query.ground_height = settings_.ground_height;
   const Candidates c =
-      timed(broad_phase_seconds_, [&] { return broad_phase_.query_swept(x0, x1, query); });
+      timed(broad_phase_seconds_, [&] { return verlet_.query(broad_phase_, mesh_, x0, &x1, query); });
   stencils.clear();
   stencils.reserve(c.point_triangle.size() + c.edge_edge.size() + c.point_ground.size());
   for (const auto& [v, f] : c.point_triangle) stencils.push_back(point_triangle_stencil(mesh_, v, f, 0.0));

@@ -80,6 +80,11 @@ class BroadPhase {
   const std::vector<Vec3>* x1_ = nullptr;
   std::vector<char> fitted_, affine_;
   std::vector<AffineMap> map0_, map1_;
+  // Node boxes of the mapped bodies with small trees, at this query (vertices, edges, faces
+  // trees; see TreeBoxes::cached); cached_[b] says whether b's are filled.
+  void cache_node_boxes(int b);
+  std::vector<std::array<std::vector<coal::AABB>, 3>> node_boxes_;
+  std::vector<char> cached_;
   BodyPairFinder body_pairs_;
 };
 
