@@ -26,6 +26,8 @@ class ContactForces:
         friction_force: (k, 3): friction force on the first body (N), tangential; the second
             body gets the opposite. Pairs whose friction was lagged at the step's start but
             that left the barrier's reach during the step have a zero normal force.
+        barrier_energy: (k,): the energy the pair's barrier stores (J), part of the bodies'
+            mechanical energy (friction's potential is dissipation, not stored: not here).
     """
 
     bodies: np.ndarray
@@ -33,6 +35,7 @@ class ContactForces:
     normals: np.ndarray
     normal_force: np.ndarray
     friction_force: np.ndarray
+    barrier_energy: np.ndarray
 
     @classmethod
     def empty(cls) -> ContactForces:
@@ -43,6 +46,7 @@ class ContactForces:
             normals=np.zeros((0, 3)),
             normal_force=np.zeros(0),
             friction_force=np.zeros((0, 3)),
+            barrier_energy=np.zeros(0),
         )
 
     @classmethod
@@ -54,6 +58,7 @@ class ContactForces:
             normals=np.asarray(d["normals"], dtype=np.float64).reshape(-1, 3),
             normal_force=np.asarray(d["normal_force"], dtype=np.float64).reshape(-1),
             friction_force=np.asarray(d["friction_force"], dtype=np.float64).reshape(-1, 3),
+            barrier_energy=np.asarray(d["barrier_energy"], dtype=np.float64).reshape(-1),
         )
 
     @property
@@ -69,6 +74,7 @@ class ContactForces:
             normals=self.normals[mask],
             normal_force=self.normal_force[mask],
             friction_force=self.friction_force[mask],
+            barrier_energy=self.barrier_energy[mask],
         )
 
     def __len__(self) -> int:

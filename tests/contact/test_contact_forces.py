@@ -3,6 +3,7 @@ closed forms (weight, Coulomb friction on an incline and under a pusher) and aga
 momentum change each step applied, recomputed here from the states and the mass matrix
 (BDF1 and BDF2), force and torque."""
 
+import ipctk
 import numpy as np
 import pytest
 
@@ -52,6 +53,14 @@ def test_resting_box_normal_forces_sum_to_its_weight(wc, integrator):
     np.testing.assert_allclose(np.sort(c.points[:, :2], axis=0), np.sort(corners[:, :2], axis=0))
     assert (c.points[:, 2] > 0).all() and (c.points[:, 2] < corners[:, 2]).all()
     assert c.normal_force.sum() == pytest.approx(m * G, rel=1e-6)
+    # Each corner's stored energy is κ b(d²) with ipctk's barrier at its height d, and its
+    # force −2 d κ b'(d²) (friction's potential is not stored energy: not in barrier_energy).
+    kappa, d_hat = world.contact.kappa, 1e-3
+    for point, force, energy in zip(c.points, c.normal_force, c.barrier_energy, strict=True):
+        d = corners[np.argmin(np.linalg.norm(corners[:, :2] - point[:2], axis=1)), 2]
+        assert energy == pytest.approx(kappa * ipctk.barrier(d * d, d_hat**2), rel=1e-9)
+        b1 = ipctk.barrier_first_derivative(d * d, d_hat**2)
+        assert force == pytest.approx(-2 * d * kappa * b1, rel=1e-9)
     W = world.contact_wrenches()
     assert W.shape == (1, 6)
     np.testing.assert_allclose(W[0, :3], [0.0, 0.0, m * G], rtol=1e-6, atol=1e-6 * m * G)

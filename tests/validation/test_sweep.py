@@ -16,9 +16,11 @@ def test_sweep_on_an_injected_executor(tmp_path):
         rows = run_sweep(cases, executor=pool, progress=False)
     assert [r["dt"] for r in rows] == [1e-3, 2e-3, 1e-3]  # case order kept
     assert rows[0]["passed"] and rows[1]["passed"]
-    # BDF2's startup error grows like h²: halving h divides it by ~4
+    # The first step (BDF1) flies the exact parabola, so BDF2 starts without error and what
+    # is left grows like h³ here: halving h divides it by ~8 (measured 8.0; an implicit Euler
+    # first step left an error ½ g h² that made it ~4).
     ratio = rows[1]["max_position_error"] / rows[0]["max_position_error"]
-    assert 3.0 < ratio < 5.0
+    assert 6.0 < ratio < 10.0
     assert not rows[2]["passed"] and "FileNotFoundError" in rows[2]["error"]
     table = summary_table(rows)
     assert "tossed_bodies.xml" in table and "missing.xml" in table

@@ -15,17 +15,19 @@ py::dict contact_forces_arrays(const IpcContactTerm& term, const VecX& q) {
   const auto k = py::ssize_t(forces.size());
   py::array_t<int> bodies({k, py::ssize_t(2)});
   py::array_t<double> points({k, py::ssize_t(3)}), normals({k, py::ssize_t(3)});
-  py::array_t<double> normal_force(k), friction({k, py::ssize_t(3)});
+  py::array_t<double> normal_force(k), friction({k, py::ssize_t(3)}), energy(k);
   auto b = bodies.mutable_unchecked<2>();
   auto p = points.mutable_unchecked<2>();
   auto n = normals.mutable_unchecked<2>();
   auto fn = normal_force.mutable_unchecked<1>();
   auto ft = friction.mutable_unchecked<2>();
+  auto e = energy.mutable_unchecked<1>();
   for (py::ssize_t i = 0; i < k; ++i) {
     const contact::ContactForce& c = forces[size_t(i)];
     b(i, 0) = c.bodies[0];
     b(i, 1) = c.bodies[1];
     fn(i) = c.normal_force;
+    e(i) = c.energy;
     for (int j = 0; j < 3; ++j) {
       p(i, j) = c.point[j];
       n(i, j) = c.normal[j];
@@ -38,6 +40,7 @@ py::dict contact_forces_arrays(const IpcContactTerm& term, const VecX& q) {
   d["normals"] = normals;
   d["normal_force"] = normal_force;
   d["friction_force"] = friction;
+  d["barrier_energy"] = energy;
   return d;
 }
 

@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,22 @@
 namespace py = pybind11;
 
 namespace abd::bindings {
+
+namespace {
+
+// q must hold 12 entries for every body the joints name.
+const VecX& checked_state(const JointSet& joints, const VecX& q) {
+  const Eigen::Index n = q.size() / 12;
+  bool ok = q.size() % 12 == 0;
+  for (int j = 0; j < joints.size() && ok; ++j)
+    ok = joints.frame(j).spec.child < n && joints.frame(j).spec.parent < n;
+  if (!ok)
+    throw std::invalid_argument("joints: q must hold 12 entries for every body (" +
+                                std::to_string(q.size()) + " entries given)");
+  return q;
+}
+
+}  // namespace
 
 void bind_joints(py::module_& m) {
   py::class_<Constraint, std::shared_ptr<Constraint>>(
@@ -59,7 +76,31 @@ void bind_joints(py::module_& m) {
       .def("v_offset", &JointSet::v_offset, py::arg("joint"))
       .def("positions", &JointSet::positions, py::arg("q"))
       .def("velocities", &JointSet::velocities, py::arg("q"), py::arg("q_dot"))
-      .def("reset", &JointSet::reset, py::arg("q"));
+      .def("reset", &JointSet::reset, py::arg("q"))
+      .def(
+          "rows",
+          [](const JointSet& joints, const VecX& q) {
+            std::vector<ConstraintRow> rows;
+            joints.linearize(checked_state(joints, q), rows);
+            py::list out;
+            for (const ConstraintRow& r : rows)
+              out.append(py::make_tuple(r.body_a, r.body_b, r.ja, r.jb, r.value));
+            return out;
+          },
+          py::arg("q"),
+          "The joints' equality rows linearised at q, in order: (child, parent (−1: the "
+          "world), gradient on the child, gradient on the parent, value).")
+      .def(
+          "values",
+          [](const JointSet& joints, const VecX& q) {
+            std::vector<ConstraintValue> values;
+            joints.values(checked_state(joints, q), values);
+            VecX out(static_cast<Eigen::Index>(values.size()));
+            for (std::size_t k = 0; k < values.size(); ++k)
+              out[static_cast<Eigen::Index>(k)] = values[k].value;
+            return out;
+          },
+          py::arg("q"), "The rows' values at q, in the order of rows().");
 
   py::class_<JointPhysics>(m, "JointPhysics", "A joint's spring, damping, armature, friction "
                                               "loss and limits (MuJoCo's meanings).")

@@ -183,6 +183,11 @@ class PythonEnergyTerm : public EnergyTerm {
     }
     link(movable, links);
   }
+  void mark_forced_bodies(std::vector<unsigned char>& flags) const override {
+    if (named_.empty()) return EnergyTerm::mark_forced_bodies(flags);  // any body
+    check_range(Eigen::Index(flags.size()));
+    for (int b : named_) flags[size_t(b)] = 1;
+  }
 
  private:
   bool named(int b) const { return std::binary_search(named_.begin(), named_.end(), b); }

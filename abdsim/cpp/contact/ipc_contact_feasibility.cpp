@@ -84,7 +84,8 @@ double IpcContactTerm::max_step(const VecX& q, const VecX& dq) const {
   std::vector<ContactStencil> stencils;
   std::vector<double> toi;
   // margin 0: only the thickness must stay clear
-  swept_tois(mesh_.world_vertices(q), mesh_.world_vertices(q + dq), 0.0, stencils, toi);
+  std::vector<Vec3> scratch;
+  swept_tois(vertices_at(q, scratch), mesh_.world_vertices(q + dq), 0.0, stencils, toi);
   double alpha = 1.0;
   for (double t : toi) alpha = std::min(alpha, t);
   return alpha;
@@ -102,7 +103,8 @@ void IpcContactTerm::body_max_steps(const VecX& q, const VecX& dq,
   std::vector<double> toi;
   // within reach of the barrier anywhere on the path
   swept_.valid = false;
-  swept_tois(mesh_.world_vertices(q), mesh_.world_vertices(q + dq), settings_.d_hat, stencils,
+  std::vector<Vec3> scratch;
+  swept_tois(vertices_at(q, scratch), mesh_.world_vertices(q + dq), settings_.d_hat, stencils,
              toi, &swept_.candidates);
   swept_.q0 = q;
   swept_.dq = dq;

@@ -151,6 +151,15 @@ const ActiveSet& IpcContactTerm::active_set_at(const VecX& q, ActiveSet& /*scrat
   return last_built_;
 }
 
+const std::vector<Vec3>& IpcContactTerm::vertices_at(const VecX& q,
+                                                     std::vector<Vec3>& scratch) const {
+  const ActiveSet* known[] = {&active_, &last_built_};
+  for (const ActiveSet* s : known)
+    if (s->q.size() == q.size() && s->x.size() == mesh_.rest.size() && s->q == q) return s->x;
+  scratch = mesh_.world_vertices(q);
+  return scratch;
+}
+
 std::array<int, 2> IpcContactTerm::stencil_bodies(const std::array<int, 4>& v, int nv) const {
   return {mesh_.vertex_body[v[0]], nv > 1 ? mesh_.vertex_body[v[nv - 1]] : -1};
 }
@@ -286,7 +295,8 @@ double IpcContactTerm::barrier_value(const VecX& q) const {
 
 double IpcContactTerm::friction_value(const VecX& q) const {
   if (friction_.empty()) return 0.0;
-  const std::vector<Vec3> x = mesh_.world_vertices(q);
+  std::vector<Vec3> scratch;
+  const std::vector<Vec3>& x = vertices_at(q, scratch);
   double sum = 0.0;
   for (const FrictionStencil& f : friction_) sum += friction_energy(f, x, friction_eps_, 0).value;
   return sum;
@@ -294,7 +304,8 @@ double IpcContactTerm::friction_value(const VecX& q) const {
 
 double IpcContactTerm::damping_value(const VecX& q) const {
   if (damping_.empty()) return 0.0;
-  const std::vector<Vec3> x = mesh_.world_vertices(q);
+  std::vector<Vec3> scratch;
+  const std::vector<Vec3>& x = vertices_at(q, scratch);
   double sum = 0.0;
   for (const DampingStencil& d : damping_) sum += damping_energy(d, x, step_scale(), 0).value;
   return sum;

@@ -154,6 +154,11 @@ class IpcContactTerm : public EnergyTerm {
   void mark_friction_bodies(std::vector<unsigned char>& flags) const;
   // Sets flags[b] = 1 for every body in an active pair of the last update() (within d̂).
   void mark_active_bodies(std::vector<unsigned char>& flags) const override;
+  // Both of the above: the bodies a barrier, friction or damping element may push.
+  void mark_forced_bodies(std::vector<unsigned char>& flags) const override {
+    mark_active_bodies(flags);
+    mark_friction_bodies(flags);
+  }
 
   // The solver's generic hooks (solver/energy_term.h; ipc_contact_hooks.cpp): friction's
   // tolerances (0.1 ε_v at the surface), its lagged bodies, adaptive κ balanced at the start
@@ -206,6 +211,11 @@ class IpcContactTerm : public EnergyTerm {
   // True when every body of q lies on its segment of the last body_max_steps move:
   // q_b = q0_b + t_b dq_b with t_b in [0, 1] (to rounding).
   bool on_swept_path(const VecX& q) const;
+  // The world vertices at q: those of the active set or the last set built when either
+  // describes q (the solver asks at one iterate for energies, gradients and step bounds: a
+  // 5,000-vertex robot spent a third of its step recomputing them), else computed into
+  // `scratch`.
+  const std::vector<Vec3>& vertices_at(const VecX& q, std::vector<Vec3>& scratch) const;
 
   // The two bodies of a stencil's vertices (second -1 for the ground).
   std::array<int, 2> stencil_bodies(const std::array<int, 4>& vertices, int nv) const;

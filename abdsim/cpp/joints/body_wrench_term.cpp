@@ -81,4 +81,8 @@ void BodyWrenchTerm::body_max_steps(const VecX&, const VecX&, const std::vector<
   for (const Wrench& w : wrenches_) near[w.body] = 1;
 }
 
+void BodyWrenchTerm::mark_forced_bodies(std::vector<unsigned char>& flags) const {
+  for (const Wrench& w : wrenches_) flags[size_t(w.body)] = 1;
+}
+
 }  // namespace abd

@@ -32,6 +32,7 @@ class BodyWrenchTerm : public EnergyTerm {
   void body_max_steps(const VecX& q, const VecX& dq, const std::vector<unsigned char>& movable,
                       VecX& bound, std::vector<unsigned char>& near,
                       std::vector<BodyLink>& links) const override;
+  void mark_forced_bodies(std::vector<unsigned char>& flags) const override;
 
  private:
   struct Wrench {

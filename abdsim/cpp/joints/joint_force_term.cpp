@@ -68,6 +68,7 @@ JointForceTerm::JointForceTerm(std::shared_ptr<const JointSet> joints, const Sce
     e.inertia = child_inertia(f, scene, q0) + p.armature;
     elements_.push_back(e);
   }
+  cache_.resize(elements_.size());
   ctrl_ = VecX::Zero(static_cast<Eigen::Index>(actuators_.size()));
   tau_ = VecX::Zero(nj);
   act_F0_.assign(actuators_.size(), 0.0);
@@ -88,7 +89,18 @@ void JointForceTerm::set_joint_forces(const VecX& tau) {
 
 double JointForceTerm::theta_of(const Element& e, const VecX& q, Vec12* gc, Vec12* gp) const {
   const JointFrame& f = joints_->frame(e.joint);
-  double theta = joint_coordinate(f, q, gc, gp);
+  CoordinateCache& cached = cache_[static_cast<std::size_t>(&e - elements_.data())];
+  const Vec12 qc = body_q(q, f.spec.child), qp = body_q(q, f.spec.parent);
+  if (!cached.valid || cached.qc != qc || cached.qp != qp) {
+    // With the gradient always: a value is mostly followed by derivatives at the same state.
+    cached.theta = joint_coordinate(f, q, &cached.gc, &cached.gp);
+    cached.qc = qc;
+    cached.qp = qp;
+    cached.valid = true;
+  }
+  if (gc) *gc = cached.gc;
+  if (gp) *gp = cached.gp;
+  double theta = cached.theta;
   if (f.spec.kind == JointKind::kRevolute) {  // unwrap against the step start
     const double two_pi = 2.0 * M_PI;
     theta += two_pi * std::round((e.theta_t - theta) / two_pi);
@@ -324,6 +336,14 @@ void JointForceTerm::body_links(const std::vector<unsigned char>& movable,
     const JointFrame& f = joints_->frame(e.joint);
     if (f.spec.parent >= 0 && movable[f.spec.parent] && movable[f.spec.child])
       links.push_back({f.spec.parent, f.spec.child});
+  }
+}
+
+void JointForceTerm::mark_forced_bodies(std::vector<unsigned char>& flags) const {
+  for (const Element& e : elements_) {
+    const JointFrame& f = joints_->frame(e.joint);
+    if (f.spec.parent >= 0) flags[size_t(f.spec.parent)] = 1;
+    flags[size_t(f.spec.child)] = 1;
   }
 }
 

@@ -79,6 +79,7 @@ class JointForceTerm : public EnergyTerm {
   void body_max_steps(const VecX& q, const VecX& dq, const std::vector<unsigned char>& movable,
                       VecX& bound, std::vector<unsigned char>& near,
                       std::vector<BodyLink>& links) const override;
+  void mark_forced_bodies(std::vector<unsigned char>& flags) const override;
 
   // Controls, one per actuator (clamped to ctrl ranges when used).
   VecX& ctrl() { return ctrl_; }
@@ -110,6 +111,19 @@ class JointForceTerm : public EnergyTerm {
   // blocks, or (rows non-null) as rows where a joint has two bodies.
   void assemble(const VecX& q, double scale, VecX* gradient, std::vector<BodyBlock>* blocks,
                 std::vector<HessianRow>* rows) const;
+
+  // The last coordinate computed per element and the two bodies' states it was computed
+  // at: a step evaluates the joints at the same state several times (Π at the start and its
+  // derivatives there, Π at the accepted trial and the step-end energies, the next step's
+  // start). A hit returns the same bits as computing again (a function of these states
+  // alone). Evaluations are serial (the solver calls terms from one thread).
+  struct CoordinateCache {
+    bool valid = false;
+    Vec12 qc, qp;
+    double theta = 0.0;  // joint_coordinate's value (before unwrapping)
+    Vec12 gc, gp;
+  };
+  mutable std::vector<CoordinateCache> cache_;
 
   std::shared_ptr<const JointSet> joints_;
   std::vector<JointPhysics> physics_;

@@ -16,6 +16,11 @@ namespace abd {
 
 // The joint's rows at q (q of every body, stacked).
 void append_joint_rows(const JointFrame& f, const VecX& q, std::vector<ConstraintRow>& rows);
+// Their values alone (the same numbers as the rows' values), in the same order.
+void append_joint_values(const JointFrame& f, const VecX& q, std::vector<ConstraintValue>& out);
+// Writes the values at q into the joint's rows (rows[0..], as append_joint_rows orders
+// them): rows that are linear in q keep their gradients, so only these change.
+void set_joint_row_values(const JointFrame& f, const VecX& q, ConstraintRow* rows);
 // True when the rows are linear in q.
 bool joint_rows_linear(const JointFrame& f);
 

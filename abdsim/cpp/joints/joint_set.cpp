@@ -35,6 +35,9 @@ JointSet::JointSet(const SceneData& scene, const VecX& q0, const std::vector<Joi
       throw std::invalid_argument(who + ": it closes a kinematic loop (loops are not supported)");
     root[a] = b;
   }
+  linear_rows_.resize(frames_.size());
+  for (std::size_t j = 0; j < frames_.size(); ++j)
+    if (joint_rows_linear(frames_[j])) append_joint_rows(frames_[j], q0, linear_rows_[j]);
   for (const JointFrame& f : frames_) {
     q_offset_.push_back(nq_);
     v_offset_.push_back(nv_);
@@ -47,7 +50,20 @@ JointSet::JointSet(const SceneData& scene, const VecX& q0, const std::vector<Joi
 }
 
 void JointSet::linearize(const VecX& q, std::vector<ConstraintRow>& rows) const {
-  for (const JointFrame& f : frames_) append_joint_rows(f, q, rows);
+  for (std::size_t j = 0; j < frames_.size(); ++j) {
+    const std::vector<ConstraintRow>& fixed_gradients = linear_rows_[j];
+    if (fixed_gradients.empty()) {
+      append_joint_rows(frames_[j], q, rows);
+      continue;
+    }
+    const std::size_t first = rows.size();
+    rows.insert(rows.end(), fixed_gradients.begin(), fixed_gradients.end());
+    set_joint_row_values(frames_[j], q, rows.data() + first);
+  }
+}
+
+void JointSet::values(const VecX& q, std::vector<ConstraintValue>& out) const {
+  for (const JointFrame& f : frames_) append_joint_values(f, q, out);
 }
 
 void JointSet::body_links(std::vector<BodyLink>& links) const {
@@ -93,8 +109,10 @@ void JointSet::reset(const VecX& q) {
 VecX JointSet::positions(const VecX& q) const {
   VecX out = VecX::Zero(nq_);
   for (int j = 0; j < size(); ++j) {
-    joint_position(frames_[j], q, out.data() + q_offset_[j]);
-    if (frames_[j].spec.kind == JointKind::kRevolute) out[q_offset_[j]] = unwrapped_angle(j, q);
+    if (frames_[j].spec.kind == JointKind::kRevolute)  // (joint_position's angle, unwrapped)
+      out[q_offset_[j]] = unwrapped_angle(j, q);
+    else
+      joint_position(frames_[j], q, out.data() + q_offset_[j]);
   }
   return out;
 }

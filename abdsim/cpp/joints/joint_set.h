@@ -19,6 +19,7 @@ class JointSet : public Constraint {
 
   std::string name() const override { return "joints"; }
   void linearize(const VecX& q, std::vector<ConstraintRow>& rows) const override;
+  void values(const VecX& q, std::vector<ConstraintValue>& out) const override;
   bool linear() const override { return linear_; }
   void body_links(std::vector<BodyLink>& links) const override;
   void mark_bodies(std::vector<unsigned char>& marked) const override;
@@ -42,6 +43,9 @@ class JointSet : public Constraint {
   double unwrapped_angle(int j, const VecX& q) const;
 
   std::vector<JointFrame> frames_;
+  // Per joint with linear rows: its rows (their gradients are constant), which linearize()
+  // copies and gives their values at q; empty for the others.
+  std::vector<std::vector<ConstraintRow>> linear_rows_;
   std::vector<int> q_offset_, v_offset_;
   std::vector<double> last_angle_;  // unwrapped hinge angle at the last end_step
   int nq_ = 0, nv_ = 0;

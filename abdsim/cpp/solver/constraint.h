@@ -27,6 +27,13 @@ struct ConstraintRow {
   double value = 0.0;
 };
 
+// One row's value at q and its bodies: what checking c(q) = 0 needs (no gradients).
+struct ConstraintValue {
+  int body_a = -1;
+  int body_b = -1;
+  double value = 0.0;
+};
+
 // How far q is from satisfying a constraint set: a distance (m) and an angle (rad).
 struct ConstraintViolation {
   double position = 0.0;
@@ -39,6 +46,13 @@ class Constraint {
   virtual std::string name() const = 0;
   // Appends the rows at q (values and gradients).
   virtual void linearize(const VecX& q, std::vector<ConstraintRow>& rows) const = 0;
+  // Appends the rows' values at q, in the order of linearize() (the same values). The
+  // default linearizes; a constraint can skip the gradients.
+  virtual void values(const VecX& q, std::vector<ConstraintValue>& out) const {
+    std::vector<ConstraintRow> rows;
+    linearize(q, rows);
+    for (const ConstraintRow& r : rows) out.push_back({r.body_a, r.body_b, r.value});
+  }
   // True when every row is linear in q (its gradient does not depend on q).
   virtual bool linear() const { return true; }
   // Pairs of distinct bodies the constraints tie together, and bodies constrained at all

@@ -20,6 +20,7 @@
 // starts at ccd_safety * bound when bound < 1), value() at every line-search trial, and
 // update(q) after every accepted iterate.
 #pragma once
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -165,6 +166,13 @@ class EnergyTerm {
   virtual void update_clear(const VecX& q) { update(q); }
   // Sets flags[b] = 1 for the bodies in an element with energy at the last update().
   virtual void mark_active_bodies(std::vector<unsigned char>& /*flags*/) const {}
+  // Sets flags[b] = 1 for every body the term may push at the last update() (lagged elements
+  // included). A BDF1 step moves the bodies no term pushes along their exact parabola
+  // (world_ballistic.cpp); the default marks every body, so a term that says nothing keeps
+  // them all on implicit Euler.
+  virtual void mark_forced_bodies(std::vector<unsigned char>& flags) const {
+    std::fill(flags.begin(), flags.end(), static_cast<unsigned char>(1));
+  }
 };
 
 }  // namespace abd

@@ -2,9 +2,12 @@
 // padded rows of a tree node, solver/tree_kkt.h), as plain loops over compile-time sizes:
 // Eigen's triangular solves dispatch to its generic dynamic-size kernels, whose set-up costs
 // more than the arithmetic at this size. A factor L is lower-triangular and lives in the
-// lower triangle of the matrix it was computed in (the strict upper triangle is left as it
-// was and never read); the solves multiply by 1 / diag(L), which the factorisation returns
-// (a division in their dependency chain costs several multiplications).
+// lower triangle of the matrix it was computed in (zeros above), with Lᵀ in a second
+// matrix; the solves multiply by 1 / diag(L), which the factorisation returns (a division in
+// their dependency chain costs several multiplications). Every loop updates whole columns
+// of fixed length (the zeros of the triangles make that exact): fixed-size column updates
+// vectorise, triangular ones of varying length do not, and a dot product per entry is one
+// chain of dependent additions.
 #pragma once
 #include <cmath>
 
@@ -12,41 +15,48 @@
 
 namespace abd::dense {
 
-// A = L Lᵀ in place over the leading n x n block (inv_diagonal: 1 there, 1 beyond); false
-// when a pivot is not positive (or not finite).
-inline bool cholesky(Mat12& A, Vec12& inv_diagonal, int n = 12) {
+// A = L Lᵀ in place over the leading n x n block, read from its lower triangle (inv_diagonal:
+// 1 there, 1 beyond; the block's strict upper triangle is zeroed) and At = Aᵀ. R: the
+// column updates run over the leading R >= n rows only; the rows below the block must be
+// zero in its columns (they stay zero). False when a pivot is not positive (or not finite).
+template <int R = 12>
+bool cholesky(Mat12& A, Mat12& At, Vec12& inv_diagonal, int n = 12) {
   inv_diagonal.setOnes();
   for (int j = 0; j < n; ++j) {
     const double d = A(j, j);
     if (!(d > 0.0) || !std::isfinite(d)) return false;
     const double l = std::sqrt(d);
     const double inv = 1.0 / l;
-    A(j, j) = l;
     inv_diagonal[j] = inv;
-    for (int i = j + 1; i < n; ++i) A(i, j) *= inv;
-    for (int k = j + 1; k < n; ++k) {
-      const double a = A(k, j);
-      for (int i = k; i < n; ++i) A(i, k) -= A(i, j) * a;
-    }
+    // Right-looking, on whole columns: rows above the diagonal of a column receive values
+    // that are zeroed below.
+    A.col(j).template head<R>() *= inv;
+    A(j, j) = l;
+    for (int k = j + 1; k < n; ++k)
+      A.col(k).template head<R>() -= A(k, j) * A.col(j).template head<R>();
   }
+  for (int j = 1; j < n; ++j)
+    for (int i = 0; i < j; ++i) A(i, j) = 0.0;
+  At = A.transpose();
   return true;
 }
 
-// v ← L⁻¹ v over the leading n entries (L's leading n x n block).
+// v ← L⁻¹ v over the leading n entries (L's leading n x n block, zeros above it). Entry j
+// takes the update of column j too and is then set: the column's zeros leave the others.
 inline void lower_solve(const Mat12& L, const Vec12& inv_diagonal, Vec12& v, int n = 12) {
   for (int j = 0; j < n; ++j) {
     const double x = v[j] * inv_diagonal[j];
+    v.noalias() -= x * L.col(j);
     v[j] = x;
-    for (int i = j + 1; i < n; ++i) v[i] -= L(i, j) * x;
   }
 }
 
-// v ← L⁻ᵀ v over the leading n entries.
-inline void upper_solve(const Mat12& L, const Vec12& inv_diagonal, Vec12& v, int n = 12) {
+// v ← L⁻ᵀ v over the leading n entries, from Lt = Lᵀ (cholesky's At, zeros below).
+inline void upper_solve(const Mat12& Lt, const Vec12& inv_diagonal, Vec12& v, int n = 12) {
   for (int j = n - 1; j >= 0; --j) {
-    double x = v[j];
-    for (int i = j + 1; i < n; ++i) x -= L(i, j) * v[i];
-    v[j] = x * inv_diagonal[j];
+    const double x = v[j] * inv_diagonal[j];
+    v.noalias() -= x * Lt.col(j);
+    v[j] = x;
   }
 }
 
@@ -60,11 +70,14 @@ inline void lower_solve(const Mat12& L, const Vec12& inv_diagonal, Mat12& X) {
 }
 
 // W ← W L⁻ᵀ over W's leading n columns (L's leading n x n block): every row w of W solves
-// L wᵀ = (its value)ᵀ, all rows at once, the inner loops running down W's columns.
-inline void solve_rows_of(const Mat12& L, const Vec12& inv_diagonal, Mat12& W, int n) {
+// L wᵀ = (its value)ᵀ, all rows at once, the inner loops running down W's columns. R: W's
+// rows past the leading R are zero (padding) and are skipped.
+template <int R = 12>
+void solve_rows_of(const Mat12& L, const Vec12& inv_diagonal, Mat12& W, int n) {
   for (int j = 0; j < n; ++j) {
-    W.col(j) *= inv_diagonal[j];
-    for (int i = j + 1; i < n; ++i) W.col(i) -= L(i, j) * W.col(j);
+    W.col(j).template head<R>() *= inv_diagonal[j];
+    for (int i = j + 1; i < n; ++i)
+      W.col(i).template head<R>() -= L(i, j) * W.col(j).template head<R>();
   }
 }
 
@@ -74,13 +87,10 @@ inline void subtract_gram(const Mat12& V, Mat12& A) {
     for (int i = j; i < 12; ++i) A(i, j) -= V.col(i).dot(V.col(j));
 }
 
-// Lower triangle of A += v vᵀ.
+// A += v vᵀ on whole columns (the lower triangle is what the factorisation reads).
 template <class V>
-void add_outer_lower(Mat12& A, const V& v) {
-  for (int j = 0; j < 12; ++j) {
-    const double a = v[j];
-    for (int i = j; i < 12; ++i) A(i, j) += v[i] * a;
-  }
+void add_outer(Mat12& A, const V& v) {
+  for (int j = 0; j < 12; ++j) A.col(j) += v[j] * v;
 }
 
 }  // namespace abd::dense

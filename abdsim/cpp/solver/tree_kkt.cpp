@@ -154,25 +154,36 @@ void TreeKkt::solve_node(const Node& node, const Vec12& rhs, const Vec12& c, Vec
     lambda = c;
     lambda.noalias() += node.W.lazyProduct(x);
     dense::lower_solve(node.LS, node.LS_inv_diagonal, lambda, node.m);
-    dense::upper_solve(node.LS, node.LS_inv_diagonal, lambda, node.m);
+    dense::upper_solve(node.LSt, node.LS_inv_diagonal, lambda, node.m);
     x.noalias() -= node.W.transpose().lazyProduct(lambda);
   }
-  dense::upper_solve(node.L, node.L_inv_diagonal, x);
+  dense::upper_solve(node.Lt, node.L_inv_diagonal, x);
+}
+
+// The node's rows: W ← J L⁻ᵀ, S = W Wᵀ + D and its factor, on the leading R >= m rows of W
+// (the rows past m are zero padding: a revolute joint's 7 rows take 8 of the 12).
+template <int R>
+bool TreeKkt::factor_rows(Node& node) {
+  const int m = node.m;
+  dense::solve_rows_of<R>(node.L, node.L_inv_diagonal, node.W, 12);
+  // S = W Wᵀ + D (its leading m columns; rows past m stay zero), column by column.
+  node.LS.setZero();
+  for (int j = 0; j < 12; ++j)
+    for (int k = 0; k < m; ++k)
+      node.LS.col(k).template head<R>() += node.W(k, j) * node.W.col(j).template head<R>();
+  node.LS.diagonal() += node.D;  // the padding: 1
+  // Rows past m are padding (S = I there): only the leading m x m block is factorised.
+  return dense::cholesky<R>(node.LS, node.LSt, node.LS_inv_diagonal, m);
 }
 
 bool TreeKkt::factor_node(int b) {
   Node& node = nodes_[b];
-  if (!dense::cholesky(node.L, node.L_inv_diagonal)) return false;
+  if (!dense::cholesky(node.L, node.Lt, node.L_inv_diagonal)) return false;
   const int m = node.m;
   if (m > 0) {
-    dense::solve_rows_of(node.L, node.L_inv_diagonal, node.W, 12);
-    // S = W Wᵀ + D (lower triangle; the padding rows of W are zero), column by column.
-    node.LS.setZero();
-    for (int j = 0; j < 12; ++j)
-      for (int k = 0; k < m; ++k) node.LS.col(k) += node.W(k, j) * node.W.col(j);
-    node.LS.diagonal() += node.D;  // the padding: 1
-    // Rows past m are padding (S = I there): only the leading m x m block is factorised.
-    if (!dense::cholesky(node.LS, node.LS_inv_diagonal, m)) return false;
+    const bool factored = m <= 4 ? factor_rows<4>(node) : m <= 8 ? factor_rows<8>(node)
+                                                                  : factor_rows<12>(node);
+    if (!factored) return false;
     if (node.hard > 0) {  // the hard rows' pivots (the soft ones are at least √D)
       const auto pivots = node.LS.diagonal().head(node.hard);
       const double lo = pivots.minCoeff(), hi = pivots.maxCoeff();
@@ -195,7 +206,7 @@ bool TreeKkt::factor_node(int b) {
   }
   if (m > 0) {
     dense::solve_rows_of(node.LS, node.LS_inv_diagonal, Qt, m);
-    for (int k = 0; k < m; ++k) dense::add_outer_lower(parent.L, Qt.col(k));
+    for (int k = 0; k < m; ++k) dense::add_outer(parent.L, Qt.col(k));
     parent.r.noalias() -= node.JPt.lazyProduct(node.yl);
   }
   return true;
@@ -290,10 +301,10 @@ bool TreeKkt::solve(const BlockSystem& system, const std::vector<ConstraintRow>&
       w.setZero();
     if (node.m > 0) {
       lambda.noalias() = node.Qt.transpose().lazyProduct(xp);
-      dense::upper_solve(node.LS, node.LS_inv_diagonal, lambda, node.m);
+      dense::upper_solve(node.LSt, node.LS_inv_diagonal, lambda, node.m);
       w.noalias() -= node.W.transpose().lazyProduct(lambda);
     }
-    dense::upper_solve(node.L, node.L_inv_diagonal, w);
+    dense::upper_solve(node.Lt, node.L_inv_diagonal, w);
     x.segment<12>(12 * b) = node.yx - w;
   }
   return x.allFinite();

@@ -288,6 +288,10 @@ void World::solve_step(StepDiagnostics& d) {
     if (contact_) d.time_broad_phase = contact_->broad_phase_seconds() - broad_phase_before;
     parallel_for(n_, threads_, [&](int b) { finish_body(b, c); });
   }
+  if (bdf2)
+    ballistic_.assign(n_, 0);
+  else
+    shift_ballistic_bodies();
   contact_diagnostics(d);
   constraint_diagnostics(d);
   if (!x_.allFinite() || !q_dot_new_.allFinite())

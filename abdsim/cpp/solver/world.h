@@ -2,6 +2,8 @@
 //   Π(q) = ½ |q − q̃|²_M + c² [ Σ_b κ_b v̄_b Ψ_b(A_b) + Σ_terms E(q) ]
 // over the stacked body state q (12 per body) by projected Newton, with
 //   BDF1: c = h,    q̃ = q_t + h q̇_t + h² g_q,              q̇_{t+1} = (q_{t+1} − q_t)/h
+//         (bodies that nothing pushes then move by −½ h² g_q: their exact parabola,
+//         world_ballistic.cpp)
 //   BDF2: c = 2h/3, q̃ = q̂ + c v̂ + c² g_q with q̂ = (4q_t − q_{t−1})/3, v̂ = (4q̇_t − q̇_{t−1})/3,
 //         q̇_{t+1} = (q_{t+1} − q̂)/c   (the first step, or the first after set_state, is BDF1).
 // Per-body flags: is_fixed (never moves), is_dynamic = 0 (quasi-static: q̃ = q_t + c² g_q),
@@ -144,6 +146,10 @@ class World {
   void remember_gap(const StepDiagnostics& d);
   // solve_step, then step_rejection; a SolverError's message is returned as the reason.
   std::string try_step(StepDiagnostics& d);
+  // world_ballistic.cpp: after a BDF1 solve, the bodies nothing pushes onto their exact
+  // parabola (x_ −= ½ h² g); and that shift undone (false if there was none).
+  void shift_ballistic_bodies();
+  bool undo_ballistic_shift();
   std::string applied_tolerances() const;  // "" or the per-body tolerances of the last solve
   bool path_crosses(const VecX& q0, const VecX& q1) const;
   // Redoes the step as 2, 4, 8, ... substeps; throws SolverError (state unchanged) if even
@@ -169,6 +175,9 @@ class World {
   // world_constraints.cpp: the rows of every constraint at x, their use in the island start,
   // the projection of x_ onto them, and their violation.
   void constraint_rows(const VecX& x, std::vector<ConstraintRow>& rows) const;
+  // The rows at x_ for a Newton solve: those of the last projection check when x_ has not
+  // moved since (an articulation's start and every iterate after a projection), else new.
+  void newton_constraint_rows(std::vector<ConstraintRow>& rows);
   void mark_jointed();
   void join_constrained_islands(std::vector<unsigned char>& near);
   // Where a jointed body heads first: q̃ + c² a with a = (x − q̃)/c² of its last solve (its
@@ -176,7 +185,8 @@ class World {
   // starts within round-off of the solution's first-order part. False when it has none.
   bool warm_guess(int b, double c2, Vec12& x) const;
   void remember_warm_start(double c2);
-  void project_constraints();
+  // True when x_ moved (the start or iterate was off its constraints beyond round-off).
+  bool project_constraints();
   void constraint_diagnostics(StepDiagnostics& d) const;
   // islands (union-find over bodies; roots are the smallest index)
   int island(int b);
@@ -215,6 +225,7 @@ class World {
   std::vector<std::uint8_t> constrained_;  // fixed or (hard) kinematic during this step
   std::vector<std::uint8_t> driven_;       // kinematic, driven by the stiff spring this step
   std::vector<unsigned char> movable_;     // unknowns of this step's solve
+  std::vector<unsigned char> ballistic_;   // shifted onto the parabola (shift_ballistic_bodies)
   VecX kinematic_target_;
 
   // Per-step scratch.
@@ -234,6 +245,9 @@ class World {
   std::vector<BodyBlock> blocks_;
   std::vector<HessianRow> hessian_rows_;
   std::vector<ConstraintRow> newton_rows_, projection_rows_;
+  std::vector<ConstraintValue> constraint_values_;  // project_constraints' check
+  VecX projection_rows_x_;           // the x_ projection_rows_ were computed at
+  bool projection_rows_valid_ = false;
   VecX rhs_;
   // remember_gap: the gap, the state and the kinematic flags it was measured with.
   double gap_ = 0.0;

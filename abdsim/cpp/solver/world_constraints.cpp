@@ -22,8 +22,18 @@ void World::constraint_rows(const VecX& x, std::vector<ConstraintRow>& rows) con
   for (const auto& c : constraints_) c->linearize(x, rows);
 }
 
+void World::newton_constraint_rows(std::vector<ConstraintRow>& rows) {
+  if (projection_rows_valid_ && projection_rows_x_.size() == x_.size() && projection_rows_x_ == x_) {
+    rows.swap(projection_rows_);  // the next projection check refills projection_rows_
+    projection_rows_valid_ = false;
+    return;
+  }
+  constraint_rows(x_, rows);
+}
+
 // The movable bodies under a constraint this step.
 void World::mark_jointed() {
+  projection_rows_valid_ = false;  // a new step: rows of the last one are not reused
   jointed_.assign(n_, 0);
   nonlinear_constraints_ = false;
   for (const auto& c : constraints_) {
@@ -48,20 +58,26 @@ void World::join_constrained_islands(std::vector<unsigned char>& near) {
 // Moves x_ onto c = 0 with the least mass-weighted change of the movable bodies (the KKT
 // solve with H = M and no force): exact in one solve for linear rows, Newton's method on the
 // rows otherwise.
-void World::project_constraints() {
-  if (constraints_.empty()) return;
+bool World::project_constraints() {
+  projection_rows_valid_ = false;
+  if (constraints_.empty()) return false;
+  auto moves = [&](int a, int b) { return (a >= 0 && jointed_[a]) || (b >= 0 && jointed_[b]); };
+  // The check needs the values only: the rows (gradients) are built when x_ must move.
+  std::vector<ConstraintValue>& values = constraint_values_;
+  values.clear();
+  for (const auto& c : constraints_) c->values(x_, values);
+  double first = 0.0;
+  for (const ConstraintValue& v : values)
+    if (moves(v.body_a, v.body_b)) first = std::max(first, std::abs(v.value));
+  if (!(first > kProjectionTolerance)) return false;
   std::vector<ConstraintRow>& rows = projection_rows_;  // kept: no reallocation per call
   auto worst = [&]() {
     double w = 0.0;
-    for (const ConstraintRow& r : rows) {
-      const bool moves =
-          (r.body_a >= 0 && jointed_[r.body_a]) || (r.body_b >= 0 && jointed_[r.body_b]);
-      if (moves) w = std::max(w, std::abs(r.value));
-    }
+    for (const ConstraintRow& r : rows)
+      if (moves(r.body_a, r.body_b)) w = std::max(w, std::abs(r.value));
     return w;
   };
   constraint_rows(x_, rows);
-  if (!(worst() > kProjectionTolerance)) return;
   std::vector<std::uint8_t> fixed(n_);
   for (int b = 0; b < n_; ++b) fixed[b] = !jointed_[b];
   VecX dx;
@@ -75,6 +91,9 @@ void World::project_constraints() {
     x_ += dx;
     constraint_rows(x_, rows);
   }
+  projection_rows_x_ = x_;  // the rows at the final x_: the next Newton solve takes them
+  projection_rows_valid_ = true;
+  return true;
 }
 
 bool World::warm_guess(int b, double c2, Vec12& x) const {

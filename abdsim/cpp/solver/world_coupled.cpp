@@ -233,7 +233,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     const VecX& rhs = rhs_;
     std::vector<ConstraintRow>& rows = newton_rows_;
     rows.clear();
-    if (constrained) constraint_rows(x_, rows);
+    if (constrained) newton_constraint_rows(rows);
     LinearSolverKind kind = settings_.linear_solver;
     const bool per_body = kind == LinearSolverKind::kAuto && !system_.coupled() && !constrained;
     if (kind == LinearSolverKind::kAuto)
@@ -445,9 +445,9 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     x_.swap(trial_);
     body_E_.swap(body_E_new_);
     rest = rest_new;
-    if (nonlinear_constraints_) {
-      // Back onto the constraints that the linearised step only met to first order.
-      project_constraints();
+    if (nonlinear_constraints_ && project_constraints()) {
+      // Back onto the constraints that the linearised step only met to first order (Π
+      // again where that moved the iterate).
       links.clear();
       rest = body_energies(x_, c2, body_E_, links);
       for (const BodyLink& l : links) merge_islands(l.a, l.b);

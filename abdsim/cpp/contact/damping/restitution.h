@@ -11,9 +11,11 @@
 // The law: a pair (two bodies, or a body and the ground) that comes within d̂ with normal
 // approach speed v_in > threshold starts an episode with the normal energy T = ½ m v_in² (m
 // the pair's rigid effective mass along the normal at its contact point, v_in at the start
-// of the step that brought it in, plus gravity's work over that step). The
+// of the step that brought it in, plus gravity's work over that step and every later step
+// that begins in compression: the energy the impact absorbs down to the turn). The
 // pair's normal energy is N = ½ m v_n² + B + W: its relative normal kinetic energy at the
-// contact point, its barrier energy B, and the work W of gravity on its normal motion. After
+// contact point, its barrier energy B, and the work W of gravity on its normal motion after
+// the turn. After
 // every step of the episode, one impulse along the normal at the contact point sets v_n so
 // that N = T while the pair approaches (compression) and N = e² T once the step left it
 // separating (restitution); when the pair leaves d̂ (B = 0) it separates at e v_in (plus
@@ -74,8 +76,8 @@ class RestitutionLaw {
     Vec3 x_bar_a = Vec3::Zero(), x_bar_b = Vec3::Zero();  // material points of the contact
     Vec3 normal = Vec3::UnitZ();                          // world, from b towards a
     double v_in = 0.0;         // normal approach speed (> 0)
-    double energy = 0.0;       // T = ½ m v_in² + gravity's work over the first step
-    double work = 0.0;         // W: gravity's work on the normal motion after that step
+    double energy = 0.0;       // T = ½ m v_in² + gravity's work down to the turn
+    double work = 0.0;         // W: gravity's work on the normal motion after the turn
     double e = 0.0;
     double cap = 0.0;          // the bodies' mechanical energy at the start of the episode
     bool applies = false;      // came in faster than the threshold
