@@ -42,6 +42,15 @@ def _brute_force(term, q, d_hat, ipctk):
     return pt, ee
 
 
+def assert_active_pairs_match(term, q, d_hat, ipctk) -> int:
+    """term's active pairs at q (after update(q)) are the brute force's; returns their count."""
+    pt, ee = _brute_force(term, q, d_hat, ipctk)
+    got = term.active_pairs()
+    assert {tuple(p) for p in got["point_triangle"]} == pt
+    assert {tuple(p) for p in got["edge_edge"]} == ee
+    return len(pt) + len(ee)
+
+
 def test_dense_sheared_bodies_match_brute_force(scenes, rng):
     """Four dense spheres under rotation, shear and stretch, and a flat square (refit path)."""
     import ipctk
@@ -66,9 +75,5 @@ def test_dense_sheared_bodies_match_brute_force(scenes, rng):
         q = np.stack(q)
         term = scenes.term(geoms, [0, 0, 0, 0, 1], q, d_hat=D_HAT, kappa=1.0)
         term.update(q)
-        pt, ee = _brute_force(term, q, D_HAT, ipctk)
-        got = term.active_pairs()
-        assert {tuple(p) for p in got["point_triangle"]} == pt
-        assert {tuple(p) for p in got["edge_edge"]} == ee
-        found += len(pt) + len(ee)
+        found += assert_active_pairs_match(term, q, D_HAT, ipctk)
     assert found > 100

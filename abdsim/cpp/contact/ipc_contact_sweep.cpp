@@ -57,7 +57,7 @@ Candidates IpcContactTerm::bounded_query(const std::vector<Vec3>& x,
                                          const BroadPhaseQuery& query) const {
   BroadPhaseQuery q = query;
   q.max_candidates = max_candidates_;
-  Candidates c = timed(broad_phase_seconds_, [&] { return broad_phase_.query(x, q); });
+  Candidates c = timed(broad_phase_seconds_, [&] { return verlet_.query(broad_phase_, mesh_, x, nullptr, q); });
   if (c.overflow) throw SolverError(overflow_message(c, max_candidates_, "a query"));
   return c;
 }
@@ -89,7 +89,8 @@ IpcContactTerm::Sweep IpcContactTerm::bounded_sweep(const VecX& q, const VecX& d
   std::vector<Vec3> shortened;  // x1 once a body's move is cut (until then: x_end)
   for (int round = 0;; ++round) {
     const std::vector<Vec3>& x1 = shortened.empty() ? x_end : shortened;
-    out.candidates = timed(broad_phase_seconds_, [&] { return broad_phase_.query_swept(x0, x1, query); });
+    out.candidates = timed(broad_phase_seconds_,
+                           [&] { return verlet_.query(broad_phase_, mesh_, x0, &x1, query); });
     if (!out.candidates.overflow) break;
     if (reach.empty()) {
       largest_moves();

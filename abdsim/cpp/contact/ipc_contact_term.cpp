@@ -14,6 +14,8 @@ namespace abd {
 namespace {
 // Gap (fraction of d̂) below which a compressed pair's κ may still be raised (see update()).
 constexpr double kCompressedGapFraction = 1e-2;
+// How far (in d̂) vertices may move before the broad phase's candidates are queried again.
+constexpr double kVerletSlack = 2.0;
 }  // namespace
 using namespace contact;
 
@@ -68,6 +70,7 @@ IpcContactTerm::IpcContactTerm(const SceneData& scene, const ContactSettings& se
       table_(mesh_.num_bodies(), settings.body_contact_element, settings.ground_contact_element,
              settings.mu, settings.contact_table, settings.damping, settings.restitution),
       broad_phase_(mesh_, [this](int a, int b) { return bodies_may_collide(a, b); }),
+      verlet_(settings_.d_hat, kVerletSlack * settings_.d_hat),
       scripted_(size_t(mesh_.num_bodies()), 0),
       threads_(resolve_threads(0)),
       dt_(scene.dt) {
@@ -117,6 +120,7 @@ void IpcContactTerm::set_threads(int threads) { threads_ = resolve_threads(threa
 void IpcContactTerm::set_scripted(int body, bool scripted) {
   scripted_.at(body) = scripted;
   swept_.valid = false;  // the filter of the kept candidates changed
+  verlet_.invalidate();
 }
 
 BarrierParams IpcContactTerm::barrier_params(double kappa) const {

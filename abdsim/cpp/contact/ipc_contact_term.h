@@ -36,6 +36,7 @@
 #include "contact/contact_table.h"
 #include "contact/damping/normal_damping.h"
 #include "contact/friction_set.h"
+#include "contact/verlet_candidates.h"
 #include "solver/energy_term.h"
 #include "solver/scene_data.h"
 
@@ -247,6 +248,9 @@ class IpcContactTerm : public EnergyTerm {
   contact::ContactMesh mesh_;
   contact::ContactTable table_;
   mutable contact::BroadPhase broad_phase_;  // a cache of refit BVHs (see above)
+  // broad_phase_'s answers reused while vertices stay within 2 d̂ of where the list was
+  // built (verlet_candidates.h: the same candidates, exactly); reset by set_scripted.
+  mutable contact::VerletCandidates verlet_;
   mutable double broad_phase_seconds_ = 0.0;  // see broad_phase_seconds()
   // The candidates of the last body_max_steps move q0 → q0 + dq, within d̂ anywhere on it:
   // a superset of the pairs within d̂ at any point where each body is somewhere on its own

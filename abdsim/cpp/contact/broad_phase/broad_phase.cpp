@@ -46,6 +46,7 @@ BroadPhase::BroadPhase(const ContactMesh& mesh, BodyFilter bodies_may_collide)
   }
   map0_.resize(size_t(mesh.num_bodies()));
   map1_.resize(size_t(mesh.num_bodies()));
+  node_boxes_.resize(size_t(mesh.num_bodies()));
 }
 
 std::vector<Vec3> BroadPhase::body_slice(const std::vector<Vec3>& x, int b) const {
@@ -72,8 +73,34 @@ bool BroadPhase::map_affine(int b) {
   return affine_[b];
 }
 
+// Trees up to this many nodes in all get every node box computed once per query: cheap
+// next to the dual-tree descents, which ask for each node once per node of the other tree
+// (a heap of boxes spent 30% of its time there). Bigger meshes (robot links) keep computing
+// only the nodes their descents visit.
+constexpr int kMaxCachedNodes = 1024;
+
+void BroadPhase::cache_node_boxes(int b) {
+  const BodyBvh& bvh = *bvhs_[b];
+  const std::array<const Bvh*, 3> trees{bvh.vertices(), bvh.edges(), bvh.faces()};
+  int nodes = 0;
+  for (const Bvh* t : trees) nodes += t ? int(t->getNumBVs()) : 0;
+  if (nodes > kMaxCachedNodes) return;
+  for (int k = 0; k < 3; ++k) {
+    std::vector<coal::AABB>& boxes = node_boxes_[b][k];
+    boxes.clear();
+    if (!trees[k]) continue;
+    const TreeBoxes t = tree_boxes(b, trees[k]);
+    for (int i = 0; i < int(trees[k]->getNumBVs()); ++i) boxes.push_back(t.node(i));
+  }
+  cached_[b] = 1;
+}
+
 void BroadPhase::fit(int b) {
-  if (fitted_[b] || map_affine(b)) return;
+  if (fitted_[b]) return;
+  if (map_affine(b)) {
+    cache_node_boxes(b);
+    return;
+  }
   fitted_[b] = 1;
   if (x1_)
     bvhs_[b]->refit_swept(body_slice(*x0_, b), body_slice(*x1_, b));
@@ -85,6 +112,12 @@ TreeBoxes BroadPhase::tree_boxes(int b, const Bvh* tree) const {
   TreeBoxes t;
   t.tree = tree;
   if (!affine_[b]) return t;
+  if (cached_[b]) {
+    const BodyBvh& bvh = *bvhs_[b];
+    const int k = tree == bvh.vertices() ? 0 : tree == bvh.edges() ? 1 : 2;
+    t.cached = node_boxes_[b][k].data();
+    return t;
+  }
   t.affine0 = &map0_[b];
   t.x0 = x0_->data() + mesh_.vertex_offset[b];
   if (x1_) {
@@ -102,6 +135,7 @@ Candidates BroadPhase::collect(const std::vector<Vec3>& x0, const std::vector<Ve
   x1_ = x1;
   fitted_.assign(static_cast<size_t>(n), 0);
   affine_.assign(static_cast<size_t>(n), 0);
+  cached_.assign(static_cast<size_t>(n), 0);
   // Each body's box (around its vertices, at x0 and x1 when swept) grows by half the margin
   // plus its own thickness, so two boxes overlap whenever their bodies may be within
   // margin + r_a + r_b.

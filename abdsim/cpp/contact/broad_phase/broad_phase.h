@@ -97,6 +97,11 @@ class BroadPhase {
   // Pairs the query may still collect (BroadPhaseQuery::max_candidates); take() spends one.
   mutable size_t room_ = 0;
   void take() const;
+  // Node boxes of the mapped bodies with small trees, at this query (vertices, edges, faces
+  // trees; see TreeBoxes::cached); cached_[b] says whether b's are filled.
+  void cache_node_boxes(int b);
+  std::vector<std::array<std::vector<coal::AABB>, 3>> node_boxes_;
+  std::vector<char> cached_;
   BodyPairFinder body_pairs_;
 };
 

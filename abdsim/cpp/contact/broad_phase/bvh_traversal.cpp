@@ -26,6 +26,7 @@ coal::AABB affine_box(const coal::AABB& rest, const AffineMap& m) {
 }
 
 coal::AABB TreeBoxes::node(int i) const {
+  if (cached) return cached[i];
   const auto& n = tree->getBV(unsigned(i));
   if (!affine0) return n.bv;
   if (n.isLeaf()) {

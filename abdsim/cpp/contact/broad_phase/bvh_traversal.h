@@ -35,6 +35,9 @@ struct TreeBoxes {
   const AffineMap* affine1 = nullptr;
   const Vec3* x0 = nullptr;  // the body's world vertices (its first one)
   const Vec3* x1 = nullptr;
+  // Every node's box at this query, computed once (small trees, see BroadPhase::fit): a
+  // dual-tree descent asks for the same node once per node of the other tree.
+  const coal::AABB* cached = nullptr;
 
   coal::AABB node(int i) const;
 };
