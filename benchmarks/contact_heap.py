@@ -199,6 +199,7 @@ def run_abdsim(scene_kind: str, n: int, steps: int) -> dict:
     iterations, gap, wall, failure = [], np.inf, 0.0, ""
     profile = dict.fromkeys([key for key, _ in TIMERS] + list(COUNTS), 0.0)
     profile.update(step=0.0, searches=0, substep_steps=0, substep_time=0.0)
+    reasons: dict[str, int] = {}  # why whole steps were split, by kind
     for k in range(steps):
         t0 = time.perf_counter()
         try:
@@ -216,6 +217,8 @@ def run_abdsim(scene_kind: str, n: int, steps: int) -> dict:
         if d.substeps > 1:  # the timers hold the last piece only; wall_time holds them all
             profile["substep_steps"] += 1
             profile["substep_time"] += d.wall_time
+            kind = substep_kind(d.substep_reason)
+            reasons[kind] = reasons.get(kind, 0) + 1
     steps_done = max(len(iterations), 1)
     iterations = iterations or [0]
     return {
@@ -228,7 +231,19 @@ def run_abdsim(scene_kind: str, n: int, steps: int) -> dict:
         "iterations": int(np.sum(iterations)),
         "per_step": np.asarray(iterations),
         "profile": profile,
+        "substep_reasons": reasons,
     }
+
+
+def substep_kind(reason: str) -> str:
+    """The kind of failure that split a step (StepDiagnostics.substep_reason), in a word."""
+    if reason.startswith("Newton did not converge"):
+        return "Newton"
+    if "crosses a contact surface" in reason:
+        return "path crossing"
+    if "would invert" in reason or "would collapse" in reason:
+        return "inversion"
+    return "other"
 
 
 def run_mujoco(scene_kind: str, n: int, steps: int) -> dict:
@@ -262,6 +277,9 @@ def print_profile(a: dict, steps: int) -> None:
         f"      outside the timers {1e3 * (p['step'] - timed) / steps:.1f} ms/step; steps redone "
         f"in substeps {p['substep_steps']:.0f} ({share:.0f}% of the wall time)"
     )
+    if a["substep_reasons"]:
+        why = ", ".join(f"{kind} {count}" for kind, count in sorted(a["substep_reasons"].items()))
+        print(f"      why steps were split: {why}")
     print(f"      per Newton iteration {1e3 * p['step'] / iters:.2f} ms")
     print_histogram(a["per_step"])
 

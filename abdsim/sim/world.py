@@ -71,6 +71,8 @@ class StepDiagnostics:
             the reported states), that would invert or collapse a body, or that Newton could
             not solve, is redone in halves (only the pieces that fail are halved again, down
             to dt / 1024); the iteration counts then sum over the pieces.
+        substep_reason: why the whole step was split ("" when ``substeps == 1``): Newton's
+            failure message, the straight-line motion crossing contact, or a body inverting.
         joint_violation: largest joint anchor separation (m) at the end of the step (for a
             prismatic joint, its offset across the axis); 0 without joints.
         joint_violation_angle: largest joint axis or frame misalignment (rad).
@@ -112,6 +114,7 @@ class StepDiagnostics:
     integrator_order: int = 1
     restitution_impulses: int = 0
     substeps: int = 1
+    substep_reason: str = ""
     joint_violation: float = 0.0
     joint_violation_angle: float = 0.0
     profile: dict[str, float] = field(default_factory=dict)
@@ -154,6 +157,7 @@ class StepDiagnostics:
             integrator_order=d.integrator_order,
             restitution_impulses=d.restitution_impulses,
             substeps=d.substeps,
+            substep_reason=d.substep_reason,
             joint_violation=d.joint_violation,
             joint_violation_angle=d.joint_violation_angle,
             profile={

@@ -32,6 +32,7 @@ def test_a_step_newton_cannot_solve_is_split_and_lands_the_box():
     world = _falling_box(11, 5.0, 0.05)
     first = world.step()
     assert first.substeps > 1 and first.time == pytest.approx(0.05)
+    assert first.substep_reason.startswith("Newton did not converge in 11 iterations")
     world.step(9)
     assert world.time == pytest.approx(0.5)
     # resting on the ground (box half-size 0.1, gap within d̂ = 1e-3), not through it
@@ -39,6 +40,7 @@ def test_a_step_newton_cannot_solve_is_split_and_lands_the_box():
     assert 0.0 < corners[:, 2].min() < 2e-3
     # the next steps are whole again
     assert [d.substeps for d in world.history[-5:]] == [1] * 5
+    assert [d.substep_reason for d in world.history[-5:]] == [""] * 5
 
 
 def test_when_even_substeps_fail_the_state_is_kept_and_the_error_says_why():

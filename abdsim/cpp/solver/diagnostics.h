@@ -65,6 +65,9 @@ struct StepDiagnostics {
   // as 2, 4, 8, ... substeps; the counts above then sum (iterations) or take the extreme
   // (CCD bound) over them, the rest is the last substep's.
   int substeps = 1;
+  // Why the whole step was not accepted (empty when substeps == 1): Newton's failure, the
+  // straight line crossing contact, or a body inverting.
+  std::string substep_reason;
   // Equality constraints (joints) at the end of the step: the largest anchor separation (m)
   // and axis/frame misalignment (rad); zero without constraints.
   double joint_violation = 0.0;

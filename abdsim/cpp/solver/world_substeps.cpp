@@ -172,11 +172,15 @@ void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) 
   total.pcg_iterations = d.pcg_iterations;
 
   // Advances the state over [f0, f1] (fractions of the step) in one piece, or in halves
-  // (always in halves above min_depth).
+  // (always in halves above min_depth). A whole step that already failed as a BDF1 step is
+  // not solved again as one piece (the same problem from the same state): it starts in halves.
   int min_depth = 1;
+  const bool whole_step_failed_as_bdf1 = d.integrator_order == 1;
   auto advance = [&](auto&& self, double f0, double f1, int depth) -> bool {
     const double mid = 0.5 * (f0 + f1);
-    if (depth < min_depth) return self(self, f0, mid, depth + 1) && self(self, mid, f1, depth + 1);
+    const bool whole = f0 == 0.0 && f1 == 1.0;
+    if (depth < min_depth || (whole && whole_step_failed_as_bdf1))
+      return self(self, f0, mid, depth + 1) && self(self, mid, f1, depth + 1);
     scene_.dt = h * (f1 - f0);
     for (int b = 0; b < n_; ++b)
       if (kinematic_[b])
@@ -215,6 +219,7 @@ void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) 
     if (ok) {
       restart_history_after_pieces(s.last_piece);
       total.substeps = s.pieces;
+      total.substep_reason = failure;
       d = std::move(total);
       return;
     }
