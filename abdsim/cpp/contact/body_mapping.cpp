@@ -33,35 +33,45 @@ size_t BodyBlockAccumulator::block_index(int row, int col) {
 
 void BodyBlockAccumulator::add_stencil(const ContactMesh& mesh, const std::array<int, 4>& vertices,
                                        int nv, const StencilMat& H, double scale) {
-  // A stencil touches at most two bodies, so at most four blocks: look each up once, and keep
-  // indices (pointers could dangle while blocks_ grows).
-  std::array<long long, 4> memo_key{};
-  std::array<size_t, 4> memo_index{};
-  int n_memo = 0;
-  auto index_of = [&](int row, int col) {
-    const long long key = block_key(row, col);
-    for (int i = 0; i < n_memo; ++i)
-      if (memo_key[i] == key) return memo_index[i];
-    memo_key[n_memo] = key;
-    return memo_index[n_memo++] = block_index(row, col);
-  };
-  std::array<size_t, kMaxStencilVertices * kMaxStencilVertices> target{};
-  for (int u = 0; u < nv; ++u)
-    for (int v = 0; v < nv; ++v)
-      target[u * nv + v] =
-          index_of(mesh.vertex_body[vertices[u]], mesh.vertex_body[vertices[v]]);
+  // The stencil's vertices by body (at most two bodies, local indices 0 and 1).
+  std::array<int, 2> body{-1, -1};
+  std::array<int, kMaxStencilVertices> local{};
+  int n_bodies = 0;
+  std::array<Eigen::Vector4d, kMaxStencilVertices> xt;
   for (int u = 0; u < nv; ++u) {
-    const Eigen::Vector4d xu = scale * homogeneous(mesh.rest[vertices[u]]);
-    for (int v = 0; v < nv; ++v) {
-      const Eigen::Vector4d xv = homogeneous(mesh.rest[vertices[v]]);
-      const Mat3 Huv = H.block<3, 3>(3 * u, 3 * v);
-      Mat12& B = blocks_[target[u * nv + v]].H;
-      for (int l = 0; l < 4; ++l)
-        for (int n = 0; n < 4; ++n) {
-          const double w = xu[l] * xv[n];
-          for (int k = 0; k < 3; ++k)
-            for (int m = 0; m < 3; ++m) B(dof(k, l), dof(m, n)) += w * Huv(k, m);
+    const int b = mesh.vertex_body[vertices[u]];
+    int a = 0;
+    while (a < n_bodies && body[a] != b) ++a;
+    if (a == n_bodies) body[n_bodies++] = b;
+    local[u] = a;
+    xt[u] = homogeneous(mesh.rest[vertices[u]]);
+  }
+  // Block (a, c) = Σ_{u ∈ a, v ∈ c} J_uᵀ H_uv J_v, column by column: S_v = Σ_u J_uᵀ H_uv
+  // (12×3), then column dof(m, n) of the block gains x̃_v[n] S_v(:, m). Block (c, a) of a
+  // stencil across two bodies is the transpose of (a, c): added as such, not recomputed.
+  const std::array<std::array<size_t, 2>, 2> index = [&] {
+    std::array<std::array<size_t, 2>, 2> out{};
+    for (int a = 0; a < n_bodies; ++a)
+      for (int c = 0; c < n_bodies; ++c) out[a][c] = block_index(body[a], body[c]);
+    return out;
+  }();
+  for (int a = 0; a < n_bodies; ++a) {
+    for (int c = a; c < n_bodies; ++c) {
+      Mat12 B = Mat12::Zero();
+      for (int v = 0; v < nv; ++v) {
+        if (local[v] != c) continue;
+        Eigen::Matrix<double, 12, 3> S = Eigen::Matrix<double, 12, 3>::Zero();
+        for (int u = 0; u < nv; ++u) {
+          if (local[u] != a) continue;
+          const Mat3 Huv = scale * H.block<3, 3>(3 * u, 3 * v);
+          for (int l = 0; l < 4; ++l)
+            for (int k = 0; k < 3; ++k) S.row(dof(k, l)) += xt[u][l] * Huv.row(k);
         }
+        for (int n = 0; n < 4; ++n)
+          for (int m = 0; m < 3; ++m) B.col(dof(m, n)) += xt[v][n] * S.col(m);
+      }
+      blocks_[index[a][c]].H += B;
+      if (c != a) blocks_[index[c][a]].H += B.transpose();
     }
   }
 }
