@@ -74,3 +74,38 @@ def test_ccd_bound_does_not_depend_on_earlier_queries(scenes, rng):
         bounds.append(bound)
     # The gaps (5 mm) close within the move: the bound is a real one.
     assert min(bounds) < 1.0
+
+
+def test_reused_candidates_under_turns_match_brute_force(scenes, rng):
+    """Two spheres keep turning (their vertices leave the list's slack: only their pairs are
+    queried again, verlet_candidates.h) while the others and the ground stay: the active
+    pairs equal ipctk's brute force and the ground's closed form at every step, and CCD bounds
+    those of a term that has never seen the earlier configurations."""
+    import ipctk
+
+    assert_active_pairs_match = _broad_phase_tests().assert_active_pairs_match
+    geoms, q = _scene(scenes, rng)
+    ground = -0.11  # 1 cm below the spheres' lowest points: within d̂
+    settings = {"d_hat": D_HAT, "kappa": 1.0, "ground": True, "ground_height": ground}
+    term = scenes.term(geoms, [0, 0, 0, 0], q, **settings)
+    found = grounded = 0
+    for step in range(1, 9):
+        trial = q.copy()
+        for k in (1, 3):  # 0.5 rad a step about their centres: vertices move up to 5 cm
+            turn = scenes.rotation(np.random.default_rng(k), 0.5 * step)
+            A = turn @ q[k, 3:].reshape(3, 3)
+            trial[k] = scenes.q_of(q[k, :3], A)
+        for k in (0, 2):  # a few mm: within the slack of where the list was built
+            trial[k, 1:3] += rng.uniform(-0.004, 0.004, 2)
+        term.update(trial)
+        found += assert_active_pairs_match(term, trial, D_HAT, ipctk)
+        z = term.world_vertices(trial)[:, 2]
+        expected = set(np.flatnonzero(z - ground < D_HAT).tolist())
+        assert set(term.active_pairs()["point_ground"].tolist()) == expected
+        grounded += len(expected)
+        dq = np.zeros_like(q)
+        dq[0::2, 0] = [0.004, -0.004]  # spheres 0 and 2 close in on their turning neighbours
+        dq[:, 2] = -0.012  # and sink towards the ground
+        fresh = scenes.term(geoms, [0, 0, 0, 0], trial, **settings)
+        assert term.max_step(trial, dq) == fresh.max_step(trial, dq)
+    assert found > 50 and grounded > 8

@@ -65,9 +65,15 @@ Candidates IpcContactTerm::bounded_query(const std::vector<Vec3>& x,
 IpcContactTerm::Sweep IpcContactTerm::bounded_sweep(const VecX& q, const VecX& dq,
                                                     double margin) const {
   const int nb = mesh_.num_bodies();
-  const std::vector<Vec3>& x0 = vertices_at(q, sweep_start_);
+  const std::vector<Vec3>* start = &vertices_at(q, sweep_start_);
+  if (start == &sweep_end_) {  // this move starts where the last one ended: keep its vertices
+    sweep_start_.swap(sweep_end_);
+    start = &sweep_start_;
+  }
+  const std::vector<Vec3>& x0 = *start;
   std::vector<Vec3>& x_end = sweep_end_;
-  mesh_.world_vertices_into(q + dq, x_end);
+  sweep_end_q_ = q + dq;
+  mesh_.world_vertices_into(sweep_end_q_, x_end);
   // The largest vertex move of each body (vertices are linear in q: a shortened move
   // q_b + s dq_b takes each vertex to x0 + s (x_end − x0)); only needed, and computed, once a
   // query overflows.

@@ -133,7 +133,9 @@ BarrierParams IpcContactTerm::barrier_params(double kappa) const {
 }
 
 ActiveSet IpcContactTerm::build_active_set(const VecX& q, double reach) const {
-  std::vector<Vec3> x = mesh_.world_vertices(q);
+  std::vector<Vec3> x;
+  const std::vector<Vec3>& known = vertices_at(q, x);
+  if (&known != &x) x = known;
   BroadPhaseQuery query;
   query.margin = reach;
   query.ground = settings_.ground;
@@ -157,6 +159,8 @@ const std::vector<Vec3>& IpcContactTerm::vertices_at(const VecX& q,
   const ActiveSet* known[] = {&active_, &last_built_};
   for (const ActiveSet* s : known)
     if (s->q.size() == q.size() && s->x.size() == mesh_.rest.size() && s->q == q) return s->x;
+  if (sweep_end_q_.size() == q.size() && sweep_end_.size() == mesh_.rest.size() && sweep_end_q_ == q)
+    return sweep_end_;
   mesh_.world_vertices_into(q, scratch);
   return scratch;
 }

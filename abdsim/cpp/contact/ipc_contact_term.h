@@ -235,10 +235,10 @@ class IpcContactTerm : public EnergyTerm {
   // True when every body of q lies on its segment of the last body_max_steps move:
   // q_b = q0_b + t_b dq_b with t_b in [0, 1] (to rounding).
   bool on_swept_path(const VecX& q) const;
-  // The world vertices at q: those of the active set or the last set built when either
-  // describes q (the solver asks at one iterate for energies, gradients and step bounds: a
-  // 5,000-vertex robot spent a third of its step recomputing them), else computed into
-  // `scratch`.
+  // The world vertices at q: those of the active set, the last set built or the last
+  // sweep's end when one describes q (the solver asks at one iterate for energies, gradients
+  // and step bounds: a 5,000-vertex robot spent a third of its step recomputing them), else
+  // computed into `scratch`.
   const std::vector<Vec3>& vertices_at(const VecX& q, std::vector<Vec3>& scratch) const;
 
   // The two bodies of a stencil's vertices (second -1 for the ground).
@@ -266,6 +266,9 @@ class IpcContactTerm : public EnergyTerm {
   // bounded_sweep's vertex buffers, kept to spare a large allocation per sweep (the term is
   // never evaluated from two threads at once).
   mutable std::vector<Vec3> sweep_start_, sweep_end_;
+  // The q of sweep_end_ (the end q + dq of the last sweep): the line search's first full step
+  // is that very point, whose vertices vertices_at then takes from there.
+  mutable VecX sweep_end_q_;
   size_t max_candidates_ = size_t(1) << 20;  // see max_candidates()
   std::vector<char> scripted_;  // per body, see set_scripted
   int threads_ = 1;

@@ -27,11 +27,63 @@ coal::AABB point_box(int v, const std::vector<Vec3>& x0, const std::vector<Vec3>
 
 }  // namespace
 
-bool VerletCandidates::covers(const std::vector<Vec3>& x) const {
-  if (x.size() != center_.size()) return false;
+void VerletCandidates::mark_uncovered(const ContactMesh& mesh, const std::vector<Vec3>& x,
+                                      std::vector<char>& stale) const {
   const double s2 = slack_ * slack_;
-  for (size_t i = 0; i < x.size(); ++i)
-    if (!((x[i] - center_[i]).squaredNorm() <= s2)) return false;  // NaN: not covered
+  for (int b = 0; b < mesh.num_bodies(); ++b) {
+    if (stale[size_t(b)]) continue;
+    for (int v = mesh.vertex_offset[b]; v < mesh.vertex_offset[b + 1]; ++v)
+      if (!((x[v] - center_[v]).squaredNorm() <= s2)) {  // NaN: not covered
+        stale[size_t(b)] = 1;
+        break;
+      }
+  }
+}
+
+bool VerletCandidates::rebuild(BroadPhase& broad_phase, const ContactMesh& mesh,
+                               const std::vector<Vec3>& x0, const std::vector<Vec3>* x1,
+                               const BroadPhaseQuery& q, const std::vector<char>* stale) {
+  const double s2 = slack_ * slack_;
+  if (!stale) center_.resize(x0.size());
+  for (int b = 0; b < mesh.num_bodies(); ++b) {
+    if (stale && !(*stale)[size_t(b)]) continue;
+    for (int v = mesh.vertex_offset[b]; v < mesh.vertex_offset[b + 1]; ++v) {
+      center_[v] = x1 ? Vec3(0.5 * (x0[v] + (*x1)[v])) : x0[v];
+      // A move longer than 2δ is not covered by any list (NaN: neither).
+      if (!((x0[v] - center_[v]).squaredNorm() <= s2) ||
+          (x1 && !(((*x1)[v] - center_[v]).squaredNorm() <= s2)))
+        return false;
+    }
+  }
+  BroadPhaseQuery wide = q;
+  wide.margin = reach_ + 2.0 * slack_;
+  wide.bodies = stale;
+  Candidates found = broad_phase.query(center_, wide);
+  if (found.overflow) return false;  // over the query's cap: no list
+  if (!stale) {
+    list_ = std::move(found);
+  } else {
+    // The stale bodies' old pairs give way to their new ones (no pair is in both: the new
+    // ones involve a stale body, the kept ones none), in the broad phase's sorted order.
+    auto is_stale = [&](int body) { return (*stale)[size_t(body)] != 0; };
+    auto renew = [](auto& kept, auto& fresh, auto drop) {
+      kept.erase(std::remove_if(kept.begin(), kept.end(), drop), kept.end());
+      kept.insert(kept.end(), fresh.begin(), fresh.end());
+      std::sort(kept.begin(), kept.end());
+    };
+    renew(list_.point_triangle, found.point_triangle, [&](const std::array<int, 2>& p) {
+      return is_stale(mesh.vertex_body[p[0]]) || is_stale(mesh.face_body[p[1]]);
+    });
+    renew(list_.edge_edge, found.edge_edge, [&](const std::array<int, 2>& p) {
+      return is_stale(mesh.edge_body[p[0]]) || is_stale(mesh.edge_body[p[1]]);
+    });
+    renew(list_.point_ground, found.point_ground,
+          [&](int v) { return is_stale(mesh.vertex_body[v]); });
+  }
+  ground_ = q.ground;
+  ground_height_ = q.ground_height;
+  valid_ = true;
+  ++rebuilds_;
   return true;
 }
 
@@ -39,31 +91,20 @@ Candidates VerletCandidates::query(BroadPhase& broad_phase, const ContactMesh& m
                                    const std::vector<Vec3>& x0, const std::vector<Vec3>* x1,
                                    const BroadPhaseQuery& q) {
   const bool servable = !q.edge_triangle && q.margin <= reach_ && q.margin >= 0.0;
-  if (!servable) return x1 ? broad_phase.query_swept(x0, *x1, q) : broad_phase.query(x0, q);
-  const bool fresh = valid_ && ground_ == q.ground && ground_height_ == q.ground_height &&
-                     covers(x0) && (!x1 || covers(*x1));
-  if (!fresh) {
-    // A new list centred on the move (its midpoint); a move longer than 2δ is not covered
-    // by any list: queried directly.
-    std::vector<Vec3> center = x0;
-    if (x1)
-      for (size_t i = 0; i < center.size(); ++i) center[i] = 0.5 * (x0[i] + (*x1)[i]);
-    center_.swap(center);
-    if (!covers(x0) || (x1 && !covers(*x1))) {
-      valid_ = false;
-      return x1 ? broad_phase.query_swept(x0, *x1, q) : broad_phase.query(x0, q);
-    }
-    BroadPhaseQuery wide = q;
-    wide.margin = reach_ + 2.0 * slack_;
-    list_ = broad_phase.query(center_, wide);
-    if (list_.overflow) {  // over the query's cap: no list; the query answers (or overflows)
-      valid_ = false;
-      return x1 ? broad_phase.query_swept(x0, *x1, q) : broad_phase.query(x0, q);
-    }
-    ground_ = q.ground;
-    ground_height_ = q.ground_height;
-    valid_ = true;
-    ++rebuilds_;
+  bool listed = false;
+  if (servable && valid_ && ground_ == q.ground && ground_height_ == q.ground_height &&
+      center_.size() == x0.size()) {
+    stale_.assign(size_t(mesh.num_bodies()), 0);
+    mark_uncovered(mesh, x0, stale_);
+    if (x1) mark_uncovered(mesh, *x1, stale_);
+    const bool any = std::find(stale_.begin(), stale_.end(), 1) != stale_.end();
+    listed = !any || rebuild(broad_phase, mesh, x0, x1, q, &stale_);
+  } else if (servable) {
+    listed = rebuild(broad_phase, mesh, x0, x1, q, nullptr);
+  }
+  if (!listed) {
+    if (servable) valid_ = false;
+    return x1 ? broad_phase.query_swept(x0, *x1, q) : broad_phase.query(x0, q);
   }
   return filter(mesh, x0, x1, q);
 }

@@ -13,6 +13,12 @@
 // same (sorted) order. Topological filters (shared vertices, contact table, fixed and
 // scripted pairs) were applied when the list was built; the owner invalidates it when those
 // change.
+//
+// Per body. The argument needs each vertex within δ of its own centre and each pair of the
+// list found at the centres its two bodies have now, nothing more: a body whose vertices
+// leave their centre gets a new one, and only its pairs are queried again (the BVH asked
+// for that body alone, the others at their centres) and replace its old ones. A robot's
+// slowly drifting trunk then re-queries the trunk, not every foot on the ground.
 #pragma once
 #include <vector>
 
@@ -37,7 +43,15 @@ class VerletCandidates {
   int rebuilds() const { return rebuilds_; }
 
  private:
-  bool covers(const std::vector<Vec3>& x) const;
+  // Marks in `stale` the bodies with a vertex of x farther than δ from its centre.
+  void mark_uncovered(const ContactMesh& mesh, const std::vector<Vec3>& x,
+                      std::vector<char>& stale) const;
+  // A new list centred on the move (its midpoint), or, with `stale`, new centres and pairs
+  // for those bodies only; false when some vertex moves farther than 2δ (no list covers it)
+  // or the query overflows.
+  bool rebuild(BroadPhase& broad_phase, const ContactMesh& mesh, const std::vector<Vec3>& x0,
+               const std::vector<Vec3>* x1, const BroadPhaseQuery& q,
+               const std::vector<char>* stale);
   Candidates filter(const ContactMesh& mesh, const std::vector<Vec3>& x0,
                     const std::vector<Vec3>* x1, const BroadPhaseQuery& q) const;
 
@@ -46,6 +60,7 @@ class VerletCandidates {
   bool ground_ = false;
   double ground_height_ = 0.0;
   std::vector<Vec3> center_;
+  std::vector<char> stale_;  // per body, scratch of query()
   Candidates list_;
   int rebuilds_ = 0;
 };

@@ -79,9 +79,10 @@ class EnergyTerm {
   virtual void begin_step(const StepContext& /*ctx*/) {}
   // Whenever Newton accepts a new iterate (e.g. rebuild the active contact set).
   virtual void update(const VecX& /*q*/) {}
-  // After Newton has converged at q: re-evaluate lagged quantities there (friction's normal
-  // forces and bases; IPC's friction iterations). Returns true when the term changed, so
-  // that the solver goes on minimising the changed Π from q.
+  // Re-evaluate lagged quantities at q (friction's normal forces and bases): once at the
+  // Newton start when it is not q_t (jointed islands start at their warm guess, near the
+  // solution), and after Newton has converged at q (IPC's friction iterations). Returns true
+  // when the term changed, so that the solver goes on minimising the changed Π from q.
   virtual bool refresh_lagged(const VecX& /*q*/) { return false; }
   // True when the term's force was not smooth over the last step (contact began or ended):
   // a multistep integrator (BDF2) then restarts from that state with one BDF1 step, since

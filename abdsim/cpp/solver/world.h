@@ -163,6 +163,7 @@ class World {
   double step_bounds(const VecX& x, const VecX& dq, const std::vector<unsigned char>& mask,
                      std::vector<unsigned char>& near, std::vector<BodyLink>& links);
   void start_iterate(bool split, double c2, StepDiagnostics& d);
+  void lag_at_start();
   void balance_term_stiffness(double c2, const VecX& grad_bodies);
   // Π_b of one movable body without terms (kinetic or drive, plus c² shape); with g and H
   // (if non-null) its gradient and Hessian.

@@ -123,6 +123,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   movable_.assign(n_, 0);
   for (int b = 0; b < n_; ++b) movable_[b] = !constrained_[b];
   start_iterate(split, c2, d);
+  lag_at_start();
 
   // 3. Newton, island by island in lockstep.
   std::vector<BodyLink> links;

@@ -188,14 +188,16 @@ Candidates BroadPhase::collect(const std::vector<Vec3>& x0, const std::vector<Ve
 void BroadPhase::collect_all(const std::vector<coal::AABB>& boxes, const BroadPhaseQuery& q,
                              Candidates& out) {
   const int n = mesh_.num_bodies();
+  auto wanted = [&](int b) { return !q.bodies || (*q.bodies)[size_t(b)]; };
   for (const auto& [a, b] : body_pairs_.overlapping(boxes))
-    if (may_collide_(a, b)) {
+    if ((wanted(a) || wanted(b)) && may_collide_(a, b)) {
       out.overflow_bodies = {a, b};
       fit(a);
       fit(b);
       collect_pair(a, b, q.margin + mesh_.body_thickness[a] + mesh_.body_thickness[b], q, out);
     }
   for (int b = 0; b < n; ++b) {
+    if (!wanted(b)) continue;
     if (mesh_.self_collision[b] && may_collide_(b, b)) {
       out.overflow_bodies = {b, b};
       fit(b);

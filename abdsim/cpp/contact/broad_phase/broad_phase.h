@@ -52,6 +52,9 @@ struct BroadPhaseQuery {
   // says so (Candidates::overflow) instead of growing its lists without bound (a swept query
   // of a body moving far through dense meshes finds hundreds of millions of box pairs).
   size_t max_candidates = 0;
+  // Only the pairs (and ground, self-contact) involving these bodies (one flag a body; null:
+  // all): a partial answer for callers that keep the rest (verlet_candidates.h).
+  const std::vector<char>* bodies = nullptr;
 };
 
 class BroadPhase {
