@@ -12,6 +12,7 @@
 #include "bindings/bindings.h"
 #include "joints/body_wrench_term.h"
 #include "joints/joint_force_term.h"
+#include "joints/joint_limit_coordinate.h"
 #include "joints/joint_set.h"
 #include "solver/constraint.h"
 
@@ -100,7 +101,24 @@ void bind_joints(py::module_& m) {
               out[static_cast<Eigen::Index>(k)] = values[k].value;
             return out;
           },
-          py::arg("q"), "The rows' values at q, in the order of rows().");
+          py::arg("q"), "The rows' values at q, in the order of rows().")
+      .def(
+          "limit_coordinate",
+          [](const JointSet& joints, int joint, const VecX& q) {
+            if (joint < 0 || joint >= joints.size())
+              throw std::invalid_argument("limit_coordinate: joint out of range");
+            const JointFrame& f = joints.frame(joint);
+            if (f.spec.kind != JointKind::kRevolute && f.spec.kind != JointKind::kPrismatic)
+              throw std::invalid_argument("limit_coordinate: a revolute or prismatic joint");
+            Vec12 gc, gp;
+            Mat24 H;
+            const double theta =
+                joint_limit_coordinate(f, checked_state(joints, q), &gc, &gp, &H);
+            return py::make_tuple(theta, gc, gp, Eigen::MatrixXd(H));
+          },
+          py::arg("joint"), py::arg("q"),
+          "The coordinate θ the joint's physics and limits act on (angle in (−π, π], or "
+          "slide), ∂θ/∂q_child, ∂θ/∂q_parent and ∇²θ over [q_child; q_parent] (24x24).");
 
   py::class_<JointPhysics>(m, "JointPhysics", "A joint's spring, damping, armature, friction "
                                               "loss and limits (MuJoCo's meanings).")

@@ -5,7 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "joints/joint_coordinate_gradient.h"
+#include "common/psd.h"
+#include "joints/joint_limit_coordinate.h"
 #include "joints/joint_potentials.h"
 #include "joints/joint_state.h"
 
@@ -93,7 +94,7 @@ double JointForceTerm::theta_of(const Element& e, const VecX& q, Vec12* gc, Vec1
   const Vec12 qc = body_q(q, f.spec.child), qp = body_q(q, f.spec.parent);
   if (!cached.valid || cached.qc != qc || cached.qp != qp) {
     // With the gradient always: a value is mostly followed by derivatives at the same state.
-    cached.theta = joint_coordinate(f, q, &cached.gc, &cached.gp);
+    cached.theta = joint_limit_coordinate(f, q, &cached.gc, &cached.gp);
     cached.qc = qc;
     cached.qp = qp;
     cached.valid = true;
@@ -181,7 +182,7 @@ bool JointForceTerm::broke_smoothness() const {
 }
 
 bool JointForceTerm::energy(const Element& e, double theta, double& E, double& d1,
-                            double& d2) const {
+                            double& d2, double* limit_d1) const {
   const JointPhysics& p = physics_[e.joint];
   Scalar1D s;
   if (p.stiffness != 0.0) add_quadratic(s, p.stiffness, theta, p.ref);
@@ -190,9 +191,15 @@ bool JointForceTerm::energy(const Element& e, double theta, double& E, double& d
   if (p.frictionloss != 0.0)
     add_dry_friction(s, p.frictionloss, theta, e.theta_hat, c_, kFrictionSpeed);
   if (tau_[e.joint] != 0.0) add_linear_force(s, tau_[e.joint], theta);
+  if (limit_d1) *limit_d1 = 0.0;
   if (p.limited) {
-    if (!add_limit_barrier(s, theta, p.lower, +1, kLimitMargin, e.kappa)) return false;
-    if (!add_limit_barrier(s, theta, p.upper, -1, kLimitMargin, e.kappa)) return false;
+    Scalar1D barrier;
+    if (!add_limit_barrier(barrier, theta, p.lower, +1, kLimitMargin, e.kappa)) return false;
+    if (!add_limit_barrier(barrier, theta, p.upper, -1, kLimitMargin, e.kappa)) return false;
+    s.e += barrier.e;
+    s.d1 += barrier.d1;
+    s.d2 += barrier.d2;
+    if (limit_d1) *limit_d1 = barrier.d1;
   }
   for (std::size_t a = 0; a < actuators_.size(); ++a) {
     const ActuatorSpec& spec = actuators_[a];
@@ -224,13 +231,34 @@ void JointForceTerm::assemble(const VecX& q, double scale, VecX* gradient,
                               std::vector<HessianRow>* rows) const {
   for (const Element& e : elements_) {
     Vec12 gc, gp;
-    double E, d1, d2;
-    if (!energy(e, theta_of(e, q, &gc, &gp), E, d1, d2)) continue;
+    double E, d1, d2, limit_d1;
+    if (!energy(e, theta_of(e, q, &gc, &gp), E, d1, d2, &limit_d1)) continue;
     const JointFrame& f = joints_->frame(e.joint);
     const int c = f.spec.child, p = f.spec.parent;
     if (gradient) {
       gradient->segment<12>(12 * c) += scale * d1 * gc;
       if (p >= 0) gradient->segment<12>(12 * p) += scale * d1 * gp;
+    }
+    if (blocks && limit_d1 != 0.0) {
+      // A barrier pushing: its force E'(θ) turns with θ's gradient as the bodies move, the
+      // curvature term E' ∇²θ of the Hessian. Without it Newton only creeps along a limit
+      // (tiago_pro's arms: hundreds of iterations a step). Projected to PSD as one matrix
+      // with the Gauss–Newton part (the sum is what Newton needs to be a descent direction).
+      Mat24 H;
+      joint_limit_coordinate(f, q, nullptr, nullptr, &H);
+      Eigen::Matrix<double, 24, 1> g;
+      g << gc, gp;
+      H = scale * (limit_d1 * H + d2 * g * g.transpose());
+      if (p < 0) {
+        blocks->push_back({c, c, project_psd(H.topLeftCorner<12, 12>())});
+        continue;
+      }
+      H = project_psd(H);
+      blocks->push_back({c, c, H.topLeftCorner<12, 12>()});
+      blocks->push_back({p, p, H.bottomRightCorner<12, 12>()});
+      blocks->push_back({c, p, H.topRightCorner<12, 12>()});
+      blocks->push_back({p, c, H.bottomLeftCorner<12, 12>()});
+      continue;
     }
     if (!blocks || d2 == 0.0) continue;
     const double k = scale * d2;

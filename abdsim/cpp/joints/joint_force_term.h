@@ -2,8 +2,10 @@
 // coordinates (joints/joint_potentials.h for the potentials): springs, viscous damping with
 // the implicit velocity, armature, smoothed dry friction loss, limits as an IPC barrier with
 // a step bound (never crossed), generalized forces (qfrc_applied) and MuJoCo-style motor /
-// position / velocity actuators with gear, control and force ranges. The Hessian is the
-// Gauss–Newton one, E''(θ) ∇θ ∇θᵀ (PSD); gradients are exact.
+// position / velocity actuators with gear, control and force ranges. θ(q) and its derivatives:
+// joints/joint_limit_coordinate.h (the hinge angle in the parent's own frame). The Hessian is
+// the Gauss–Newton one, E''(θ) ∇θ ∇θᵀ (PSD), plus, where a limit barrier pushes, its
+// curvature term E'_limit ∇²θ (projected to PSD with it); gradients are exact.
 #pragma once
 #include <memory>
 #include <string>
@@ -105,7 +107,10 @@ class JointForceTerm : public EnergyTerm {
   };
   bool at_limit(const Element& e, double theta) const;
   double theta_of(const Element& e, const VecX& q, Vec12* gc, Vec12* gp) const;
-  bool energy(const Element& e, double theta, double& E, double& d1, double& d2) const;
+  // E and its first two derivatives in θ; limit_d1 (if non-null): the limit barriers' share
+  // of d1 (their curvature term needs it). False where θ is outside the limits.
+  bool energy(const Element& e, double theta, double& E, double& d1, double& d2,
+              double* limit_d1 = nullptr) const;
   double limit_step(const Element& e, const VecX& q, const VecX& dq) const;
   // Gradient (if non-null) and Hessian (blocks non-null) in one pass over the joints: as
   // blocks, or (rows non-null) as rows where a joint has two bodies.
@@ -120,7 +125,7 @@ class JointForceTerm : public EnergyTerm {
   struct CoordinateCache {
     bool valid = false;
     Vec12 qc, qp;
-    double theta = 0.0;  // joint_coordinate's value (before unwrapping)
+    double theta = 0.0;  // joint_limit_coordinate's value (before unwrapping)
     Vec12 gc, gp;
   };
   mutable std::vector<CoordinateCache> cache_;
