@@ -241,8 +241,8 @@ void JointForceTerm::assemble(const VecX& q, double scale, VecX* gradient,
     }
     if (blocks && limit_d1 != 0.0) {
       // A barrier pushing: its force E'(θ) turns with θ's gradient as the bodies move, the
-      // curvature term E' ∇²θ of the Hessian. Without it Newton only creeps along a limit
-      // (tiago_pro's arms: hundreds of iterations a step). Projected to PSD as one matrix
+      // curvature term E' ∇²θ of the Hessian (Newton's exact second order at a limit; the
+      // parent-frame angle alone already fixed tiago_pro's stall). Projected to PSD as one matrix
       // with the Gauss–Newton part (the sum is what Newton needs to be a descent direction).
       Mat24 H;
       joint_limit_coordinate(f, q, nullptr, nullptr, &H);
