@@ -149,3 +149,19 @@ def test_step_bound_never_lets_a_limit_be_crossed(seed):
     assert upper - reached < 1e-9
     assert np.isfinite(term.value(q + alpha * dq))
     assert term.value(q + 1.0 * dq) == np.inf
+
+
+def test_limit_coordinate_rejects_bad_input():
+    world, q = _two_link_world()
+    joints = world._joints
+    with pytest.raises(ValueError, match="joint out of range"):
+        joints.limit_coordinate(2, q)
+    with pytest.raises(ValueError, match="joint out of range"):
+        joints.limit_coordinate(-1, q)
+    with pytest.raises(ValueError, match="12 entries for every body"):
+        joints.limit_coordinate(1, q[:12])
+    ball = abdsim.Scene(dt=1e-3, contact=False)
+    ball.add_joint("ball", None, ball.add(link()), anchor=(0, 0, 0))
+    w = abdsim.World(ball)
+    with pytest.raises(ValueError, match="revolute or prismatic"):
+        w._joints.limit_coordinate(0, np.ascontiguousarray(w._core.q).reshape(-1))
