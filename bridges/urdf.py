@@ -49,6 +49,7 @@ from abdsim.bridges._bodies import (
 )
 from abdsim.bridges._contact_rules import exclude_touching, urdf_rules
 from abdsim.bridges._inertia_proxy import inertia_box
+from abdsim.bridges._urdf_joint_frames import donor_keep, frame_donors, frame_mass, frames_note
 from abdsim.bridges._urdf_visual import visual_only
 from abdsim.bridges.articulated import check_articulation
 
@@ -153,12 +154,19 @@ def load_urdf(
             links_of.setdefault(int(f.parentJoint), []).append(f.name)
     bodies: list[LoadedBody] = []
     body_of_joint: dict[int, int] = {}
+    # Massless links without geometry that carry a joint (multi-axis hips): joint frames.
+    donors = {} if kinematic else frame_donors(model, set(geoms_of))
+    keep = donor_keep(donors)
+    if donors:
+        notes.append(frames_note(model, donors, links_of))
     for j in range(model.njoints):
         links = links_of.get(j, [])
         geoms = geoms_of.get(j, [])
         inertia = model.inertias[j]
         proxy = False
-        if not geoms:
+        if j in donors:
+            proxy = True  # bridges/_urdf_joint_frames.py
+        elif not geoms:
             if j > 0 and inertia.mass > 0 and not kinematic:
                 # Articulated, the group must carry its mass and its children's joint: a body
                 # whose surface is its inertia box, colliding with nothing (_inertia_proxy.py).
@@ -182,14 +190,18 @@ def load_urdf(
                 continue
         if proxy:
             name = links[0] if links else model.names[j]
-            surfaces = [
-                inertia_box(
-                    f"{name} (inertia box)",
-                    inertia.mass,
-                    np.array(inertia.lever),
-                    np.array(inertia.inertia),
-                )
-            ]
+            if j in donors:
+                mass = frame_mass(model, kin, j, donors[j])
+                surfaces = [inertia_box(f"{name} (joint frame)", *mass)]
+            else:
+                surfaces = [
+                    inertia_box(
+                        f"{name} (inertia box)",
+                        inertia.mass,
+                        np.array(inertia.lever),
+                        np.array(inertia.inertia),
+                    )
+                ]
         else:
             name = model.frames[int(geoms[0].parentFrame)].name
             surfaces = [_geometry_surface(pin, g, model, open_mesh, notes) for g in geoms]
@@ -201,7 +213,7 @@ def load_urdf(
             mass = _joint_mass(model, 0, links, link_mass, mass_density or 1e3)
         else:
             kind = "dynamic" if _is_floating_root(model, j) else "kinematic"
-            if model.inertias[j].mass <= 0 and mass_density is None:
+            if model.inertias[j].mass <= 0 and mass_density is None and j not in donors:
                 # A moving group without mass is repaired, never refused: its surface's mass.
                 missing = [n for n in links if link_mass.get(n) is None]
                 notes.append(
@@ -209,7 +221,12 @@ def load_urdf(
                     f"mass (links without <inertial>: {missing}): using its geometry's mass at "
                     "1000 kg/m^3 (pass mass_density= to choose the density)"
                 )
-            mass = _joint_mass(model, j, links, link_mass, mass_density or 1e3)
+            if j in donors:
+                mass = frame_mass(model, kin, j, donors[j])
+            else:
+                mass = _joint_mass(model, j, links, link_mass, mass_density or 1e3)
+            if j in keep and mass is not None:  # the share its joint frames carry
+                mass = (keep[j] * mass[0], mass[1], keep[j] * mass[2])
         oMi, vj = kin.oMi[j], kin.v[j]
         R = np.array(oMi.rotation)
         velocity = velocity_matrix(R, R @ vj.angular, R @ vj.linear)
@@ -235,8 +252,9 @@ def load_urdf(
             raise LoaderError(
                 f"URDF {urdf.name}: joint {model.names[j]!r} hangs from joint "
                 f"{model.names[parent_joint]!r}, whose links have neither mass nor collision "
-                "geometry: no body can carry that joint (a massless in-between body has no "
-                "sound affine-body model); load with kinematic=True to script it"
+                "geometry, and no link below it has mass to lend a joint frame "
+                "(bridges/_urdf_joint_frames.py): no body can carry that joint; load with "
+                "kinematic=True to script it"
             )
         body_of_joint[j] = len(bodies)
         bodies.append(body)

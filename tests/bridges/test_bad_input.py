@@ -148,12 +148,31 @@ def test_link_with_mass_but_no_geometry_is_reported(tmp_path):
     assert res.joint_names == ["ghost_joint"]
 
 
-def test_massless_link_between_joints_is_refused_naming_them(tmp_path):
+def test_massless_link_between_joints_becomes_a_joint_frame(tmp_path):
+    """A link with neither mass nor geometry between two joints (URDF multi-axis joints) is
+    a joint frame carrying 1e-4 of the first massive link below it, named in a note."""
     ghost = link("ghost", mass=0.0).replace(
         '<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>', ""
     )
     joints = revolute("base", "ghost") + revolute("ghost", "tip")
     path = urdf(tmp_path, link("base"), ghost, link("tip"), joints=joints, name="gap.urdf")
+    carry = r"neither mass nor geometry that carry a joint \['ghost'\]"
+    with pytest.warns(UserWarning, match=carry):
+        res = load_urdf(path)
+    assert res.names == ["base", "ghost", "tip"] and res.bodies[1].geoms == ()
+    assert res.bodies[1].geometry.meta["mass"] == pytest.approx(1e-4, rel=1e-12)
+    assert res.bodies[2].geometry.meta["mass"] == pytest.approx(1.0 - 1e-4, rel=1e-12)
+    assert res.joint_names == ["ghost_joint", "tip_joint"]
+
+
+def test_massless_link_with_nothing_massive_below_is_refused_naming_it(tmp_path):
+    """No massive link below the massless one: nothing to take a frame's mass from."""
+    ghost = link("ghost", mass=0.0).replace(
+        '<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>', ""
+    )
+    joints = revolute("base", "ghost") + revolute("ghost", "tip")
+    tip = link("tip", mass=0.0)
+    path = urdf(tmp_path, link("base"), ghost, tip, joints=joints, name="gap.urdf")
     with pytest.raises(
         LoaderError,
         match="gap.urdf: joint 'tip_joint' hangs from joint "

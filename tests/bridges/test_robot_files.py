@@ -51,12 +51,6 @@ LIGHT_URDFS = {
 }
 #: dm_control files whose load takes long (dense meshes).
 HEAVY_XMLS = {"dog.xml"}
-#: URDFs abdsim cannot articulate, with what the LoaderError must say (walked kinematic).
-NOT_ARTICULATED = {
-    # Hips and shoulders as chains of massless links: a massless in-between body has no sound
-    # affine-body model.
-    "human.urdf": "joint 'left_hip_Y' hangs from joint 'left_hip_X', whose links have neither",
-}
 #: URDFs with a link smaller than 4 d_hat (tiago's 2 mm finger boxes): the World refuses the
 #: default d_hat naming the body, and they walk with a smaller one.
 SMALL_PARTS = {"tiago.urdf": 5e-4, "tiago_dual.urdf": 5e-4}
@@ -163,12 +157,6 @@ def test_every_example_robot_urdf_loads_and_steps(path):
                 load_urdf(path)
             assert path.name in str(err.value)
             return
-        if path.name in NOT_ARTICULATED:
-            with pytest.raises(LoaderError, match=f"{path.name}: {NOT_ARTICULATED[path.name]}"):
-                load_urdf(path)
-            result = load_urdf(path, kinematic=True)
-            assert _simulate(result) > 0
-            return
         result = load_urdf(path, srdf=_srdf(path))
     assert len(result.bodies) >= 1
     assert all(b.kind != "kinematic" for b in result.bodies)
@@ -184,10 +172,6 @@ def test_every_example_robot_urdf_loads_floating_and_steps(path):
         warnings.simplefilter("ignore")
         if path.name in REJECTED:
             with pytest.raises(LoaderError, match=path.name.replace(".", r"\.")):
-                load_urdf(path, floating_base=True)
-            return
-        if path.name in NOT_ARTICULATED:
-            with pytest.raises(LoaderError, match=NOT_ARTICULATED[path.name]):
                 load_urdf(path, floating_base=True)
             return
         result = load_urdf(path, floating_base=True, srdf=_srdf(path))
