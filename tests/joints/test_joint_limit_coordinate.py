@@ -103,6 +103,19 @@ def test_angle_is_the_hinge_joint_position_with_the_parent_turned():
         assert world._joints.positions(q)[1] == pytest.approx(phi, abs=1e-12)
 
 
+@pytest.mark.parametrize("kind", ["revolute", "prismatic"])
+def test_joint_positions_read_the_limit_coordinate_in_non_rigid_states(kind):
+    """One definition of hinge and slide coordinates: on states with sheared, stretched bodies
+    (where the world-axis reading differs by the strain), joint_positions() is exactly the
+    coordinate the limits and joint energies act on."""
+    world, q0 = _two_link_world(kind=kind)
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        q = _affinely_perturbed(q0, (0, 1), rng)
+        theta = world._joints.limit_coordinate(1, q)[0]
+        assert world._joints.positions(q)[1] == theta
+
+
 def test_parent_and_child_carried_together_keep_the_angle_and_the_step():
     """A Newton step that carries parent and child by the same affine map (a sub-tree
     swinging as a whole, linearised: A -> (I + t[ω]×) A) leaves the angle in the parent's

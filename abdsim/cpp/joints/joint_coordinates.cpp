@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "joints/joint_limit_coordinate.h"
 #include "joints/joint_state.h"
 
 namespace abd {
@@ -19,24 +20,18 @@ Vec3 world_axis(const JointFrame& f, const Vec12& qp) {
 
 }  // namespace
 
+// One definition of the 1-dof coordinates: the limits' and joint energies' own
+// (joints/joint_limit_coordinate.h), so joint_positions() reads what the barrier holds.
 double hinge_angle(const JointFrame& f, const VecX& q) {
-  const Vec12 qp = body_q(q, f.spec.parent), qc = body_q(q, f.spec.child);
-  const Vec3 w = world_axis(f, qp);
-  Vec3 up = affine_A(qp) * f.normal_p;
-  Vec3 uc = affine_A(qc) * f.normal_c;
-  up -= up.dot(w) * w;
-  uc -= uc.dot(w) * w;
-  return std::atan2(w.dot(up.cross(uc)), up.dot(uc));
+  return joint_limit_coordinate(f, q, nullptr, nullptr);
 }
 
 void joint_position(const JointFrame& f, const VecX& q, double* out) {
   const Vec12 qp = body_q(q, f.spec.parent), qc = body_q(q, f.spec.child);
   switch (f.spec.kind) {
     case JointKind::kRevolute:
-      out[0] = hinge_angle(f, q);
-      break;
     case JointKind::kPrismatic:
-      out[0] = world_axis(f, qp).dot(affine_point(qc, f.anchor_c) - affine_point(qp, f.anchor_p));
+      out[0] = joint_limit_coordinate(f, q, nullptr, nullptr);
       break;
     case JointKind::kBall: {
       const Mat3 rel = nearest_rotation(affine_A(qp)).transpose() * nearest_rotation(affine_A(qc));

@@ -6,7 +6,8 @@
 //             nearest to A); qvel: R_cᵀ (ω_c − ω_p), in the child's frame
 //   free      qpos: p and the quaternion of R_c; qvel: ṗ (world) and R_cᵀ ω_c (body frame)
 //   fixed     nothing.
-// The hinge angle here lies in (−π, π]; JointSet unwraps it from step to step.
+// Hinge and slide coordinates are joint_limit_coordinate's (the angle read in the parent's
+// own frame). The hinge angle here lies in (−π, π]; JointSet unwraps it from step to step.
 #pragma once
 #include "joints/joint_spec.h"
 #include "solver/constraint.h"
