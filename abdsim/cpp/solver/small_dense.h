@@ -47,6 +47,38 @@ bool cholesky(Mat12& A, Mat12& At, Vec12& inv_diagonal, int n = 12) {
   return true;
 }
 
+// cholesky<12>(A, At, inv_diagonal) with the forward solves that follow it done in the same
+// sweep: t ← L⁻¹ t and W ← W L⁻ᵀ (every row w of W solves L wᵀ = (its value)ᵀ; R: W's rows
+// past the leading R are zero and skipped). Each pivot column updates t and W's columns as it
+// updates the trailing columns of A (with the unscaled column: the unit-lower factor is
+// a_ij / d_j and L = (that) diag(√d)), so their chains run beside the pivots' instead of
+// after them. False when a pivot is not positive (or not finite).
+template <int R>
+bool cholesky_forward(Mat12& A, Mat12& At, Vec12& inv_diagonal, Vec12& t, Mat12& W) {
+  Vec12 s = t;  // the unit-lower solve in progress (its rows < j are no longer read)
+  for (int j = 0; j < 12; ++j) {
+    const double d = A(j, j);
+    if (!(d > 0.0) || !std::isfinite(d)) return false;
+    const double inv_d = 1.0 / d;
+    for (int k = j + 1; k < 12; ++k)
+      A.col(k) -= (A(k, j) * inv_d) * A.col(j);
+    const double l = std::sqrt(d);
+    const double inv = l * inv_d;
+    inv_diagonal[j] = inv;
+    t[j] = s[j] * inv;
+    s -= (s[j] * inv_d) * A.col(j);
+    for (int k = j + 1; k < 12; ++k)
+      W.col(k).template head<R>() -= (A(k, j) * inv_d) * W.col(j).template head<R>();
+    W.col(j).template head<R>() *= inv;
+    A.col(j) *= inv;
+    A(j, j) = l;
+  }
+  for (int j = 1; j < 12; ++j)
+    for (int i = 0; i < j; ++i) A(i, j) = 0.0;
+  At = A.transpose();
+  return true;
+}
+
 // v ← L⁻¹ v over the leading n entries (L's leading n x n block, zeros above it). Entry j
 // takes the update of column j too and is then set: the column's zeros leave the others.
 inline void lower_solve(const Mat12& L, const Vec12& inv_diagonal, Vec12& v, int n = 12) {

@@ -144,12 +144,11 @@ bool TreeKkt::build_forest(const BlockSystem& system, const std::vector<Constrai
   return true;
 }
 
-void TreeKkt::solve_node(const Node& node, const Vec12& rhs, const Vec12& c, Vec12& x,
+void TreeKkt::solve_node(const Node& node, const Vec12& t, const Vec12& c, Vec12& x,
                          Vec12& lambda) {
   // H x + Jᵀ λ = rhs, J x − D λ = −c: λ = S⁻¹ (J H⁻¹ rhs + c), x = H⁻¹ (rhs − Jᵀ λ); with
   // H = L Lᵀ and t = L⁻¹ rhs, J H⁻¹ rhs = W t and H⁻¹ Jᵀ λ = L⁻ᵀ Wᵀ λ.
-  x = rhs;
-  dense::lower_solve(node.L, node.L_inv_diagonal, x);
+  x = t;
   if (node.m > 0) {
     lambda = c;
     lambda.noalias() += node.W.lazyProduct(x);
@@ -160,12 +159,14 @@ void TreeKkt::solve_node(const Node& node, const Vec12& rhs, const Vec12& c, Vec
   dense::upper_solve(node.Lt, node.L_inv_diagonal, x);
 }
 
-// The node's rows: W ← J L⁻ᵀ, S = W Wᵀ + D and its factor, on the leading R >= m rows of W
-// (the rows past m are zero padding: a revolute joint's 7 rows take 8 of the 12).
+// H_bb = L Lᵀ with t = L⁻¹ r_b and W ← J L⁻ᵀ in the same sweep, then S = W Wᵀ + D and its
+// factor, on the leading R >= m rows of W (the rows past m are zero padding: a revolute
+// joint's 7 rows take 8 of the 12).
 template <int R>
-bool TreeKkt::factor_rows(Node& node) {
+bool TreeKkt::factor_rows(Node& node, Vec12& t) {
   const int m = node.m;
-  dense::solve_rows_of<R>(node.L, node.L_inv_diagonal, node.W, 12);
+  if (!dense::cholesky_forward<R>(node.L, node.Lt, node.L_inv_diagonal, t, node.W)) return false;
+  if (m == 0) return true;
   // S = W Wᵀ + D (its leading m columns; rows past m stay zero), column by column.
   node.LS.setZero();
   for (int j = 0; j < 12; ++j)
@@ -178,19 +179,19 @@ bool TreeKkt::factor_rows(Node& node) {
 
 bool TreeKkt::factor_node(int b) {
   Node& node = nodes_[b];
-  if (!dense::cholesky(node.L, node.Lt, node.L_inv_diagonal)) return false;
   const int m = node.m;
+  Vec12 t = node.r;  // L⁻¹ r_b
+  const bool factored = m <= 4 ? factor_rows<4>(node, t) : m <= 8 ? factor_rows<8>(node, t)
+                                                                  : factor_rows<12>(node, t);
+  if (!factored) return false;
   if (m > 0) {
-    const bool factored = m <= 4 ? factor_rows<4>(node) : m <= 8 ? factor_rows<8>(node)
-                                                                  : factor_rows<12>(node);
-    if (!factored) return false;
     if (node.hard > 0) {  // the hard rows' pivots (the soft ones are at least √D)
       const auto pivots = node.LS.diagonal().head(node.hard);
       const double lo = pivots.minCoeff(), hi = pivots.maxCoeff();
       if (!(lo * lo > kPivotFloor * hi * hi)) return false;
     }
   }
-  solve_node(node, node.r, node.c, node.yx, node.yl);
+  solve_node(node, t, node.c, node.yx, node.yl);
   if (node.parent < 0) return true;
   Node& parent = nodes_[node.parent];
   // Qᵀ = (W V − J_P)ᵀ, then L_S⁻¹ applied to Q (its columns, Qᵀ's rows).

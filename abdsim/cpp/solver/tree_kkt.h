@@ -76,10 +76,11 @@ class TreeKkt {
               const VecX& rhs);
   // Node b eliminated into its parent: its factors and y_b; false when a pivot block fails.
   bool factor_node(int b);
+  // H_bb's factor with t ← L⁻¹ t and the rows' factors (R: rows of W computed).
   template <int R>
-  static bool factor_rows(Node& node);
-  // K_b⁻¹ [rhs; −c] for the node's factors: (x part, λ part).
-  static void solve_node(const Node& node, const Vec12& rhs, const Vec12& c, Vec12& x,
+  static bool factor_rows(Node& node, Vec12& t);
+  // K_b⁻¹ [rhs; −c] for the node's factors from t = L⁻¹ rhs: (x part, λ part).
+  static void solve_node(const Node& node, const Vec12& t, const Vec12& c, Vec12& x,
                          Vec12& lambda);
 
   std::vector<Node> nodes_;
