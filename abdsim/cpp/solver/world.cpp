@@ -203,7 +203,10 @@ void World::predict_body(int b, double c, bool bdf2) {
     q_tilde.head<3>() += g_step;
   }
   Vec12 pred = q_tilde;
-  if (!constrained_[b]) {
+  // A jointed body with a warm guess starts from that guess (start_iterate), not from this
+  // prediction: it skips the orthogonalisation.
+  const bool warm = warm_valid_.size() == static_cast<std::size_t>(n_) && warm_valid_[b];
+  if (!constrained_[b] && !warm) {
     const Mat3 A = affine_A(pred);
     Mat3 At_inv;
     double det = 0.0;
