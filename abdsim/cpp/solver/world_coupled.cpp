@@ -148,6 +148,18 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   for (const auto& t : terms_) reach = std::max(reach, t->reach());
   const bool lazy_energies = reach == 0.0;
   bool stale = false;
+  auto energies_at_x = [&]() {  // Π per body and the rest at x_, and the links they find
+    links.clear();
+    rest = body_energies(x_, c2, body_E_, links);
+    for (const BodyLink& l : links) merge_islands(l.a, l.b);
+    stale = false;
+  };
+  auto x_moved = [&]() {  // Π's values at x_ now, or when a line search wants them
+    if (lazy_energies)
+      stale = true;
+    else
+      energies_at_x();
+  };
 
   int refreshes_left = settings_.friction_iterations;
   for (int it = 0; it < settings_.max_newton_iterations; ++it) {
@@ -175,10 +187,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
           tol_affine_[b] = tol_a[b];
           frozen_[island(b)] = converged_[island(b)] = 0;
         }
-        links.clear();
-        rest = body_energies(x_, c2, body_E_, links);
-        stale = false;
-        for (const BodyLink& l : links) merge_islands(l.a, l.b);
+        energies_at_x();
         for (int b = 0; b < n_; ++b) {
           inactive[b] = !(movable_[b] && !frozen_[island(b)]);
           n_active += !inactive[b];
@@ -217,13 +226,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       // κ from the gradient balance at the start iterate (grad_ holds the bodies' own part
       // of ∇Π now), then Π at the start with that κ.
       balance_term_stiffness(c2, grad_);
-      if (lazy_energies) {
-        stale = true;
-      } else {
-        links.clear();
-        rest = body_energies(x_, c2, body_E_, links);
-        for (const BodyLink& l : links) merge_islands(l.a, l.b);
-      }
+      x_moved();
     }
     bool constrained = false;
     for (int b = 0; b < n_ && !constraints_.empty(); ++b)
@@ -368,12 +371,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       x_.swap(trial_);
       stale = true;
     } else {
-      if (stale) {
-        links.clear();
-        rest = body_energies(x_, c2, body_E_, links);
-        for (const BodyLink& l : links) merge_islands(l.a, l.b);
-        stale = false;
-      }
+      if (stale) energies_at_x();
       // Armijo line search, per island, all islands per contact query.
       island_E_.setZero(n_);
       island_slope_.setZero(n_);
@@ -488,13 +486,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     if (nonlinear_constraints_ && project_constraints()) {
       // Back onto the constraints that the linearised step only met to first order (Π
       // again where that moved the iterate).
-      if (lazy_energies) {
-        stale = true;
-      } else {
-        links.clear();
-        rest = body_energies(x_, c2, body_E_, links);
-        for (const BodyLink& l : links) merge_islands(l.a, l.b);
-      }
+      x_moved();
     }
 
     // Accept: terms see the new iterate; islands they now link iterate again together.
@@ -510,13 +502,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     bool reparametrised = false;  // e.g. adaptive κ doubled: Π changed
     for (std::size_t k = 0; k < terms_.size(); ++k)
       reparametrised = reparametrised || terms_[k]->energy_parameter() != parameters[k];
-    if (reparametrised && lazy_energies) {
-      stale = true;
-    } else if (reparametrised) {
-      links.clear();
-      rest = body_energies(x_, c2, body_E_, links);
-      for (const BodyLink& l : links) merge_islands(l.a, l.b);
-    }
+    if (reparametrised) x_moved();
   }
   if (!all_done) {
     bool remaining = false;
