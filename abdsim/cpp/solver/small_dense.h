@@ -2,9 +2,10 @@
 // padded rows of a tree node, solver/tree_kkt.h), as plain loops over compile-time sizes:
 // Eigen's triangular solves dispatch to its generic dynamic-size kernels, whose set-up costs
 // more than the arithmetic at this size. A factor L is lower-triangular and lives in the
-// lower triangle of the matrix it was computed in (zeros above), with Lᵀ in a second
-// matrix; the solves multiply by 1 / diag(L), which the factorisation returns (a division in
-// their dependency chain costs several multiplications). Every loop updates whole columns
+// lower triangle of the matrix it was computed in (zeros above), with the unit upper factor
+// of Lᵀ in a second matrix (unit_upper); the solves multiply by 1 / diag(L), which the
+// factorisation returns (a division in their dependency chain costs several
+// multiplications). Every loop updates whole columns
 // of fixed length (the zeros of the triangles make that exact): fixed-size column updates
 // vectorise, triangular ones of varying length do not, and a dot product per entry is one
 // chain of dependent additions.
@@ -15,8 +16,19 @@
 
 namespace abd::dense {
 
+// Lᵀ = diag(L) U with U unit upper: U's strict upper triangle, by columns (U(i, j) =
+// L(j, i) / L(i, i), zero on and below the diagonal). Back-substitution with U needs no
+// multiplication between one entry and the next (upper_solve).
+inline void unit_upper(const Mat12& L, const Vec12& inv_diagonal, Mat12& U) {
+  U = L.transpose();
+  for (int j = 0; j < 12; ++j) {
+    U.col(j) = U.col(j).cwiseProduct(inv_diagonal);
+    U(j, j) = 0.0;
+  }
+}
+
 // A = L Lᵀ in place over the leading n x n block, read from its lower triangle (inv_diagonal:
-// 1 there, 1 beyond; the block's strict upper triangle is zeroed) and At = Aᵀ. R: the
+// 1 there, 1 beyond; the block's strict upper triangle is zeroed) and At = unit_upper(L). R: the
 // column updates run over the leading R >= n rows only; the rows below the block must be
 // zero in its columns (they stay zero). False when a pivot is not positive (or not finite).
 //
@@ -43,7 +55,7 @@ bool cholesky(Mat12& A, Mat12& At, Vec12& inv_diagonal, int n = 12) {
   }
   for (int j = 1; j < n; ++j)
     for (int i = 0; i < j; ++i) A(i, j) = 0.0;
-  At = A.transpose();
+  unit_upper(A, inv_diagonal, At);
   return true;
 }
 
@@ -75,7 +87,7 @@ bool cholesky_forward(Mat12& A, Mat12& At, Vec12& inv_diagonal, Vec12& t, Mat12&
   }
   for (int j = 1; j < 12; ++j)
     for (int i = 0; i < j; ++i) A(i, j) = 0.0;
-  At = A.transpose();
+  unit_upper(A, inv_diagonal, At);
   return true;
 }
 
@@ -89,13 +101,10 @@ inline void lower_solve(const Mat12& L, const Vec12& inv_diagonal, Vec12& v, int
   }
 }
 
-// v ← L⁻ᵀ v over the leading n entries, from Lt = Lᵀ (cholesky's At, zeros below).
-inline void upper_solve(const Mat12& Lt, const Vec12& inv_diagonal, Vec12& v, int n = 12) {
-  for (int j = n - 1; j >= 0; --j) {
-    const double x = v[j] * inv_diagonal[j];
-    v.noalias() -= x * Lt.col(j);
-    v[j] = x;
-  }
+// v ← L⁻ᵀ v over the leading n entries, from U = unit_upper(L) (cholesky's At): U v' = v / diag(L).
+inline void upper_solve(const Mat12& U, const Vec12& inv_diagonal, Vec12& v, int n = 12) {
+  v = v.cwiseProduct(inv_diagonal);  // 1 past n
+  for (int j = n - 1; j > 0; --j) v.noalias() -= v[j] * U.col(j);
 }
 
 // X ← L⁻¹ X, column by column.

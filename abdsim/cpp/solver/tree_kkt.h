@@ -50,7 +50,7 @@ class TreeKkt {
     const Mat12* coupling = nullptr;  // H_bP (rows b, columns P), null when zero
     Mat12 own_coupling;               // where coupling points when soft rows were folded in
     Mat12 L;                          // H_bb (updated by the children), then its Cholesky factor
-    Mat12 Lt;                         // Lᵀ (the solves with Lᵀ run down its columns)
+    Mat12 Lt;                         // Lᵀ's unit upper factor (dense::unit_upper)
     Vec12 r;                          // rhs_b, updated by the children
     Vec12 L_inv_diagonal;             // 1 / diag(L)
     int m = 0;                        // rows 0..hard−1 are hard, hard..m−1 soft
@@ -59,7 +59,7 @@ class TreeKkt {
     Mat12 JPt;                        // the rows on x_P, transposed (column k: row k)
     Vec12 c, D;                       // the rows' values and compliances
     Mat12 LS;                         // Cholesky factor of S = W Wᵀ + D
-    Mat12 LSt;                        // L_Sᵀ
+    Mat12 LSt;                        // L_Sᵀ's unit upper factor
     Vec12 LS_inv_diagonal;
     Vec12 yx, yl;                     // y_b = K_b⁻¹ z_b: x part, λ part
     Mat12 V;                          // L⁻¹ H_bP (with a coupling)
