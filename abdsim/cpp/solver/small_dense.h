@@ -28,17 +28,25 @@ inline void unit_upper(const Mat12& L, const Vec12& inv_diagonal, Mat12& U) {
 }
 
 // A = L Lᵀ in place over the leading n x n block, read from its lower triangle (inv_diagonal:
-// 1 there, 1 beyond; the block's strict upper triangle is zeroed) and At = unit_upper(L). R: the
-// column updates run over the leading R >= n rows only; the rows below the block must be
-// zero in its columns (they stay zero). False when a pivot is not positive (or not finite).
+// 1 there, 1 beyond; the block's strict upper triangle is zeroed) and At = unit_upper(L),
+// with the forward solves that follow a factorisation done in the same sweep: t ← L⁻¹ t and
+// W ← W L⁻ᵀ over W's leading n columns (every row w of W solves L wᵀ = (its value)ᵀ). R: A's
+// column updates (and t's) run over the leading R >= n rows only, the rows below the block
+// must be zero in its columns (they stay zero), and t's entries past R are left; RW: W's rows
+// past the leading RW are zero and skipped. False when a pivot is not positive (or not
+// finite).
 //
-// The trailing columns are updated with the pivot column before it is scaled, as
+// Each pivot column updates the trailing columns of A before it is scaled, as
 // a_k −= (a_kj / d) a_j (d the pivot): the next pivot then waits on one division, not on a
 // square root followed by a division (pivot to pivot, that chain is most of the time of a
-// 12x12 factorisation). The column's scaling by 1/√d = √d / d is off that path.
-template <int R = 12>
-bool cholesky(Mat12& A, Mat12& At, Vec12& inv_diagonal, int n = 12) {
+// 12x12 factorisation); the column's scaling by 1/√d = √d / d is off that path. t and W take
+// the same unscaled column (the unit-lower factor is a_ij / d_j, L = (that) diag(√d)), so
+// their chains run beside the pivots' instead of after them.
+template <int R, int RW>
+bool cholesky_forward(Mat12& A, Mat12& At, Vec12& inv_diagonal, Vec12& t, Mat12& W,
+                      int n = 12) {
   inv_diagonal.setOnes();
+  Vec12 s = t;  // the unit-lower solve in progress (its rows < j are no longer read)
   for (int j = 0; j < n; ++j) {
     const double d = A(j, j);
     if (!(d > 0.0) || !std::isfinite(d)) return false;
@@ -50,42 +58,15 @@ bool cholesky(Mat12& A, Mat12& At, Vec12& inv_diagonal, int n = 12) {
     const double l = std::sqrt(d);
     const double inv = l * inv_d;
     inv_diagonal[j] = inv;
+    t[j] = s[j] * inv;
+    s.template head<R>() -= (s[j] * inv_d) * A.col(j).template head<R>();
+    for (int k = j + 1; k < n; ++k)
+      W.col(k).template head<RW>() -= (A(k, j) * inv_d) * W.col(j).template head<RW>();
+    W.col(j).template head<RW>() *= inv;
     A.col(j).template head<R>() *= inv;
     A(j, j) = l;
   }
   for (int j = 1; j < n; ++j)
-    for (int i = 0; i < j; ++i) A(i, j) = 0.0;
-  unit_upper(A, inv_diagonal, At);
-  return true;
-}
-
-// cholesky<12>(A, At, inv_diagonal) with the forward solves that follow it done in the same
-// sweep: t ← L⁻¹ t and W ← W L⁻ᵀ (every row w of W solves L wᵀ = (its value)ᵀ; R: W's rows
-// past the leading R are zero and skipped). Each pivot column updates t and W's columns as it
-// updates the trailing columns of A (with the unscaled column: the unit-lower factor is
-// a_ij / d_j and L = (that) diag(√d)), so their chains run beside the pivots' instead of
-// after them. False when a pivot is not positive (or not finite).
-template <int R>
-bool cholesky_forward(Mat12& A, Mat12& At, Vec12& inv_diagonal, Vec12& t, Mat12& W) {
-  Vec12 s = t;  // the unit-lower solve in progress (its rows < j are no longer read)
-  for (int j = 0; j < 12; ++j) {
-    const double d = A(j, j);
-    if (!(d > 0.0) || !std::isfinite(d)) return false;
-    const double inv_d = 1.0 / d;
-    for (int k = j + 1; k < 12; ++k)
-      A.col(k) -= (A(k, j) * inv_d) * A.col(j);
-    const double l = std::sqrt(d);
-    const double inv = l * inv_d;
-    inv_diagonal[j] = inv;
-    t[j] = s[j] * inv;
-    s -= (s[j] * inv_d) * A.col(j);
-    for (int k = j + 1; k < 12; ++k)
-      W.col(k).template head<R>() -= (A(k, j) * inv_d) * W.col(j).template head<R>();
-    W.col(j).template head<R>() *= inv;
-    A.col(j) *= inv;
-    A(j, j) = l;
-  }
-  for (int j = 1; j < 12; ++j)
     for (int i = 0; i < j; ++i) A(i, j) = 0.0;
   unit_upper(A, inv_diagonal, At);
   return true;
@@ -113,18 +94,6 @@ inline void lower_solve(const Mat12& L, const Vec12& inv_diagonal, Mat12& X) {
     Vec12 x = X.col(c);
     lower_solve(L, inv_diagonal, x);
     X.col(c) = x;
-  }
-}
-
-// W ← W L⁻ᵀ over W's leading n columns (L's leading n x n block): every row w of W solves
-// L wᵀ = (its value)ᵀ, all rows at once, the inner loops running down W's columns. R: W's
-// rows past the leading R are zero (padding) and are skipped.
-template <int R = 12>
-void solve_rows_of(const Mat12& L, const Vec12& inv_diagonal, Mat12& W, int n) {
-  for (int j = 0; j < n; ++j) {
-    W.col(j).template head<R>() *= inv_diagonal[j];
-    for (int i = j + 1; i < n; ++i)
-      W.col(i).template head<R>() -= L(i, j) * W.col(j).template head<R>();
   }
 }
 

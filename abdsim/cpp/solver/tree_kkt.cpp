@@ -144,28 +144,37 @@ bool TreeKkt::build_forest(const BlockSystem& system, const std::vector<Constrai
   return true;
 }
 
-void TreeKkt::solve_node(const Node& node, const Vec12& t, const Vec12& c, Vec12& x,
-                         Vec12& lambda) {
+void TreeKkt::solve_node(const Node& node, const Vec12& t, Vec12& lambda, Vec12& x) {
   // H x + Jᵀ λ = rhs, J x − D λ = −c: λ = S⁻¹ (J H⁻¹ rhs + c), x = H⁻¹ (rhs − Jᵀ λ); with
   // H = L Lᵀ and t = L⁻¹ rhs, J H⁻¹ rhs = W t and H⁻¹ Jᵀ λ = L⁻ᵀ Wᵀ λ.
   x = t;
   if (node.m > 0) {
-    lambda = c;
-    lambda.noalias() += node.W.lazyProduct(x);
-    dense::lower_solve(node.LS, node.LS_inv_diagonal, lambda, node.m);
     dense::upper_solve(node.LSt, node.LS_inv_diagonal, lambda, node.m);
     x.noalias() -= node.W.transpose().lazyProduct(lambda);
   }
   dense::upper_solve(node.Lt, node.L_inv_diagonal, x);
 }
 
-// H_bb = L Lᵀ with t = L⁻¹ r_b and W ← J L⁻ᵀ in the same sweep, then S = W Wᵀ + D and its
-// factor, on the leading R >= m rows of W (the rows past m are zero padding: a revolute
+// H_bb = L Lᵀ with t = L⁻¹ r_b and W ← J L⁻ᵀ in the same sweep; Qᵀ = (W V − J_P)ᵀ with
+// V = L⁻¹ H_bP; then S = W Wᵀ + D = L_S L_Sᵀ with λ = L_S⁻¹ (c + W t) and Qᵀ ← Qᵀ L_S⁻ᵀ in
+// that sweep. On the leading R >= m rows of W (the rows past m are zero padding: a revolute
 // joint's 7 rows take 8 of the 12).
 template <int R>
-bool TreeKkt::factor_rows(Node& node, Vec12& t) {
+bool TreeKkt::factor_rows(Node& node, Vec12& t, Vec12& lambda) {
   const int m = node.m;
-  if (!dense::cholesky_forward<R>(node.L, node.Lt, node.L_inv_diagonal, t, node.W)) return false;
+  if (!dense::cholesky_forward<12, R>(node.L, node.Lt, node.L_inv_diagonal, t, node.W))
+    return false;
+  Mat12& Qt = node.Qt;
+  if (node.parent >= 0) {
+    Qt = -node.JPt;
+    if (node.coupling) {
+      node.V = *node.coupling;
+      dense::lower_solve(node.L, node.L_inv_diagonal, node.V);
+      if (m > 0) Qt.noalias() += node.V.transpose() * node.W.transpose();
+    }
+  } else {
+    Qt.setZero();  // a root has no Q
+  }
   if (m == 0) return true;
   // S = W Wᵀ + D (its leading m columns; rows past m stay zero), column by column.
   node.LS.setZero();
@@ -173,41 +182,37 @@ bool TreeKkt::factor_rows(Node& node, Vec12& t) {
     for (int k = 0; k < m; ++k)
       node.LS.col(k).template head<R>() += node.W(k, j) * node.W.col(j).template head<R>();
   node.LS.diagonal() += node.D;  // the padding: 1
+  lambda = node.c;
+  lambda.noalias() += node.W.lazyProduct(t);
   // Rows past m are padding (S = I there): only the leading m x m block is factorised.
-  return dense::cholesky<R>(node.LS, node.LSt, node.LS_inv_diagonal, m);
+  return dense::cholesky_forward<R, 12>(node.LS, node.LSt, node.LS_inv_diagonal, lambda, Qt,
+                                        m);
 }
 
 bool TreeKkt::factor_node(int b) {
   Node& node = nodes_[b];
   const int m = node.m;
   Vec12 t = node.r;  // L⁻¹ r_b
-  const bool factored = m <= 4 ? factor_rows<4>(node, t) : m <= 8 ? factor_rows<8>(node, t)
-                                                                  : factor_rows<12>(node, t);
+  Vec12 lambda = Vec12::Zero();
+  const bool factored = m <= 4   ? factor_rows<4>(node, t, lambda)
+                        : m <= 8 ? factor_rows<8>(node, t, lambda)
+                                 : factor_rows<12>(node, t, lambda);
   if (!factored) return false;
-  if (m > 0) {
-    if (node.hard > 0) {  // the hard rows' pivots (the soft ones are at least √D)
-      const auto pivots = node.LS.diagonal().head(node.hard);
-      const double lo = pivots.minCoeff(), hi = pivots.maxCoeff();
-      if (!(lo * lo > kPivotFloor * hi * hi)) return false;
-    }
+  if (m > 0 && node.hard > 0) {  // the hard rows' pivots (the soft ones are at least √D)
+    const auto pivots = node.LS.diagonal().head(node.hard);
+    const double lo = pivots.minCoeff(), hi = pivots.maxCoeff();
+    if (!(lo * lo > kPivotFloor * hi * hi)) return false;
   }
-  solve_node(node, t, node.c, node.yx, node.yl);
+  solve_node(node, t, lambda, node.yx);
+  node.yl = lambda;
   if (node.parent < 0) return true;
   Node& parent = nodes_[node.parent];
-  // Qᵀ = (W V − J_P)ᵀ, then L_S⁻¹ applied to Q (its columns, Qᵀ's rows).
-  Mat12& Qt = node.Qt;
-  Qt = -node.JPt;
   if (node.coupling) {
-    Mat12& V = node.V;
-    V = *node.coupling;
-    dense::lower_solve(node.L, node.L_inv_diagonal, V);
-    if (m > 0) Qt.noalias() += V.transpose() * node.W.transpose();
-    dense::subtract_gram(V, parent.L);
+    dense::subtract_gram(node.V, parent.L);
     parent.r.noalias() -= node.coupling->transpose() * node.yx;
   }
   if (m > 0) {
-    dense::solve_rows_of(node.LS, node.LS_inv_diagonal, Qt, m);
-    for (int k = 0; k < m; ++k) dense::add_outer(parent.L, Qt.col(k));
+    for (int k = 0; k < m; ++k) dense::add_outer(parent.L, node.Qt.col(k));
     parent.r.noalias() -= node.JPt.lazyProduct(node.yl);
   }
   return true;

@@ -76,12 +76,13 @@ class TreeKkt {
               const VecX& rhs);
   // Node b eliminated into its parent: its factors and y_b; false when a pivot block fails.
   bool factor_node(int b);
-  // H_bb's factor with t ← L⁻¹ t and the rows' factors (R: rows of W computed).
+  // H_bb's factor with t ← L⁻¹ t, Qᵀ, and the rows' factors with λ ← L_S⁻¹ (c + W t)
+  // (R: rows of W computed).
   template <int R>
-  static bool factor_rows(Node& node, Vec12& t);
-  // K_b⁻¹ [rhs; −c] for the node's factors from t = L⁻¹ rhs: (x part, λ part).
-  static void solve_node(const Node& node, const Vec12& t, const Vec12& c, Vec12& x,
-                         Vec12& lambda);
+  static bool factor_rows(Node& node, Vec12& t, Vec12& lambda);
+  // K_b⁻¹ [rhs; −c] for the node's factors from t = L⁻¹ rhs and λ = L_S⁻¹ (c + W t): x, and
+  // λ (the multipliers) in place.
+  static void solve_node(const Node& node, const Vec12& t, Vec12& lambda, Vec12& x);
 
   std::vector<Node> nodes_;
   std::vector<int> order_;                 // free bodies, every parent before its children
