@@ -80,7 +80,7 @@ class EnergyTerm {
   // Whenever Newton accepts a new iterate (e.g. rebuild the active contact set).
   virtual void update(const VecX& /*q*/) {}
   // Re-evaluate lagged quantities at q (friction's normal forces and bases): once at the
-  // Newton start when it is not q_t (jointed islands start at their warm guess, near the
+  // Newton start when it is not q_t (islands start at their warm guess, near the
   // solution), and after Newton has converged at q (IPC's friction iterations). Returns true
   // when the term changed, so that the solver goes on minimising the changed Π from q.
   virtual bool refresh_lagged(const VecX& /*q*/) { return false; }

@@ -131,7 +131,7 @@ void World::set_state(const VecX& q, const VecX& q_dot) {
   has_history_ = false;
   restitution_.reset();
   fresh_state_ = true;
-  warm_valid_.clear();  // the last solve's joint forces say nothing about this state
+  warm_valid_.clear();  // the last solve's forces say nothing about this state
 }
 
 void World::set_time(double t) {
@@ -284,6 +284,7 @@ void World::solve_step(StepDiagnostics& d) {
   if (terms_.empty() && constraints_.empty() &&
       settings_.linear_solver == LinearSolverKind::kAuto) {
     step_per_body(c, bdf2, d);  // predictions, Newton and velocities in one parallel loop
+    warm_valid_.clear();        // no solve_coupled to remember its forces
   } else {
     parallel_for(n_, threads_, [&](int b) { predict_body(b, c, bdf2); });
     const double broad_phase_before = contact_ ? contact_->broad_phase_seconds() : 0.0;

@@ -181,9 +181,10 @@ class World {
   void newton_constraint_rows(std::vector<ConstraintRow>& rows);
   void mark_jointed();
   void join_constrained_islands(std::vector<unsigned char>& near);
-  // Where a jointed body heads first: q̃ + c² a with a = (x − q̃)/c² of its last solve (its
-  // constraint and joint forces per unit mass, smooth from step to step), so that Newton
-  // starts within round-off of the solution's first-order part. False when it has none.
+  // Where a body heads first: q̃ + c² a with a = (x − q̃)/c² of its last solve (its
+  // contact, constraint and joint forces per unit mass, smooth from step to step while they
+  // hold it), so that Newton starts within round-off of the solution's first-order part.
+  // False when it has none.
   bool warm_guess(int b, double c2, Vec12& x) const;
   void remember_warm_start(double c2);
   // True when x_ moved (the start or iterate was off its constraints beyond round-off).
@@ -205,7 +206,7 @@ class World {
   std::vector<unsigned char> jointed_;  // movable bodies under a constraint this step
   KktFactorisation kkt_newton_, kkt_projection_;  // patterns kept from solve to solve
   bool nonlinear_constraints_ = false;
-  VecX warm_accel_;                          // per jointed body: (x − q̃)/c² of its last solve
+  VecX warm_accel_;                          // per body: (x − q̃)/c² of its last solve
   std::vector<unsigned char> warm_valid_;    // warm_accel_ holds a value for the body
 
   VecX q_, q_dot_;            // current state

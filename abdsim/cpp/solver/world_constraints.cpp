@@ -106,7 +106,7 @@ void World::remember_warm_start(double c2) {
   warm_valid_.assign(n_, 0);
   warm_accel_.resize(12 * n_);
   for (int b = 0; b < n_; ++b) {
-    if (!jointed_[b] || driven_[b]) continue;
+    if (!movable_[b] || driven_[b]) continue;
     warm_accel_.segment<12>(12 * b) = (x_.segment<12>(12 * b) - q_tilde_.segment<12>(12 * b)) / c2;
     warm_valid_[b] = 1;
   }

@@ -3,11 +3,12 @@
 //
 //  1. Kinematic bodies go to their targets when that move is free of contact (CCD, the other
 //     bodies at rest); the others are driven by a stiff spring this step (world.h).
-//  2. Terms that split by body report, for the move of every body to its prediction, which
-//     bodies come within their reach (links): linked bodies form islands. Bodies that nothing
-//     comes near run the per-body Newton solve of the fast path and keep that free solution:
-//     they are solved (start_iterate). Islands start from where they are (IPC); jointed
-//     islands from their warm guess when the move there is clear.
+//  2. Terms that split by body report, for the move of every body to its warm guess (the
+//     last step's forces carried over; else its prediction), which bodies come within their
+//     reach (links): linked bodies form islands. Bodies that nothing comes near run the
+//     per-body Newton solve of the fast path and keep that free solution: they are solved
+//     (start_iterate). Islands start from their warm guesses when the move there is clear,
+//     else from where they are (IPC).
 //  3. Projected Newton on the remaining islands in lockstep: one assembled system and one
 //     contact query per iteration, but a CCD bound, Armijo line search and convergence test
 //     per island; a converged island stops moving; islands merge whenever a term links them

@@ -51,16 +51,17 @@ void World::place_kinematic_bodies(StepDiagnostics& d) {
   }
 }
 
-// The Newton start. Every movable body is checked on its way to its prediction x̃ (the
-// target for driven bodies). Bodies that nothing comes near on that move (no term reaches
-// them within d̂) run the per-body Newton solve of the fast path and keep its free solution.
-// They are done (frozen) when no contact pair involves them there (the energy of the terms
-// is zero around it: it is the solution) and their path to it is clear: the checked one, when
-// the solution lies within d̂/4 of the prediction (so the path stays farther than d̂/2 from
-// everything), else their own move, checked again against everything else at its start.
-// Every island with something near starts where it is (IPC's start, always feasible): a
-// start clipped by CCD short of the free solution would sit deep in the barrier, where
-// Newton on a log barrier only creeps back out.
+// The Newton start. Every movable body is checked on its way to its warm guess, else its
+// prediction x̃ (the target for driven bodies). Bodies that nothing comes near on that move
+// (no term reaches them within d̂) run the per-body Newton solve of the fast path and keep
+// its free solution. They are done (frozen) when no contact pair involves them there (the
+// energy of the terms is zero around it: it is the solution) and their path to it is clear:
+// the checked one, when the solution lies within d̂/4 of where that move ended (so the path
+// stays farther than d̂/2 from everything), else their own move, checked again against
+// everything else at its start. Every island with something near starts at its warm
+// guesses when the whole move there is clear, else where it is (IPC's start, always
+// feasible): a start clipped by CCD short of its target would sit deep in the barrier,
+// where Newton on a log barrier only creeps back out.
 namespace {
 
 // A move whose step bounds were computed (World::step_bounds with the movable mask).
@@ -72,12 +73,14 @@ struct CheckedMove {
 }  // namespace
 
 void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
-  // Jointed bodies head for their warm guess (warm_guess): islands of them start there when
-  // that move is feasible (every step bound 1), else where they are.
+  // Bodies head for their warm guess (warm_guess; bodies without one, for their prediction):
+  // islands start there when that move is feasible (every step bound 1), else where they
+  // are. A resting heap of 100 boxes starts within ~2 tolerances of its solution this way
+  // (~100 from where it is): 1-4 Newton iterations a step instead of 6-10.
   mark_jointed();
   std::vector<unsigned char> warm(n_, 0);
   for (int b = 0; b < n_; ++b) {
-    if (!jointed_[b] || driven_[b]) continue;
+    if (!movable_[b] || driven_[b]) continue;
     Vec12 guess;
     warm[b] = warm_guess(b, c2, guess);
     if (warm[b]) x_free_.segment<12>(12 * b) = guess;
@@ -122,7 +125,8 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
     BodyNewton r;
     newton_body(b, c2, x, r, nullptr);
     free_iterations_[b] = r.iterations;
-    const Vec12 dev = x - x_pred_.segment<12>(12 * b);
+    // Measured from the end of the checked move (the warm guess, else the prediction).
+    const Vec12 dev = x - x_free_.segment<12>(12 * b);
     const double moved = dev.head<3>().norm() + extent_[b] * affine_A(dev).norm();
     if (r.status != kConverged) {
       solved[b] = 0;
@@ -221,7 +225,7 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
 }
 
 // Lagged quantities (friction's normal forces and bases) at the Newton start rather than at
-// q_t, when the two differ: jointed islands start at their warm guess, close to the
+// q_t, when the two differ: islands start at their warm guess, close to the
 // solution, so the first iterate already sees the forces it converges to and the friction
 // iteration after convergence (refresh_lagged there) mostly finds nothing to change (go2
 // standing: Newton iterations per step 2.13 -> 1.30). Still one lagged state per step.

@@ -1,0 +1,61 @@
+"""A heap of boxes landing and coming to rest (issue 12's scene, 20 boxes): Newton starts each
+island at its warm guess (the last step's contact forces carried over, World::warm_guess), so
+the resting heap takes one or two Newton iterations a step (steps 100-149: median 1, at most
+3; median 12, 8-40, when every island started where it was), without intersections (coal)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import abdsim
+
+EXTENTS = (0.10, 0.08, 0.06)
+SPACING = 0.15  # > the boxes' diameter: no overlap at the start, any rotation
+
+
+def heap(n: int = 20, layers: int = 5, seed: int = 0) -> abdsim.World:
+    """n boxes, randomly rotated, in `layers` layers on a grid, every other layer shifted by
+    half a cell so that boxes land on boxes (benchmarks/contact_heap.py's heap)."""
+    rng = np.random.default_rng(seed)
+    per_layer = n // layers
+    side = int(np.ceil(np.sqrt(per_layer)))
+    k = np.arange(n)
+    layer, slot = k // per_layer, k % per_layer
+    shift = 0.5 * SPACING * (layer % 2)
+    q = rng.normal(size=(n, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    w, x, y, z = q.T
+    R = np.stack(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    ).transpose(2, 0, 1)
+    scene = abdsim.Scene(dt=0.01, friction=0.5, history_limit=0)
+    scene.add_ground(0.0)
+    boxes = abdsim.geometry.box(EXTENTS)
+    boxes.instances.resize(n)
+    T = np.tile(np.eye(4), (n, 1, 1))
+    T[:, :3, :3] = R
+    T[:, 0, 3] = SPACING * (slot % side) + shift
+    T[:, 1, 3] = SPACING * (slot // side) + shift
+    T[:, 2, 3] = 0.08 + SPACING * layer
+    boxes.transforms = T
+    abdsim.AffineBodyConstitution("OrthoPotential").apply_to(boxes, kappa=1e8, mass_density=1e3)
+    scene.add(boxes)
+    return abdsim.World(scene)
+
+
+def test_a_resting_heap_takes_one_or_two_newton_iterations_a_step(wc):
+    world = heap()
+    iterations = []
+    for _ in range(150):
+        d = world.step()
+        assert d.min_contact_distance > 0
+        iterations.append(d.newton_iterations)
+    resting = np.asarray(iterations[100:])
+    assert np.median(resting) <= 2 and resting.max() <= 4
+    assert np.abs(world.velocities()[:, :3, 3]).max() < 1e-2  # the heap has come to rest
+    hits, d_min, low = wc.coal_check(world)
+    assert hits == 0 and d_min > 0 and low > 0
