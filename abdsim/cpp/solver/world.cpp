@@ -205,7 +205,11 @@ void World::predict_body(int b, double c, bool bdf2) {
   Vec12 pred = q_tilde;
   // A jointed body with a warm guess starts from that guess (start_iterate), not from this
   // prediction: it skips the orthogonalisation.
-  const bool warm = warm_valid_.size() == static_cast<std::size_t>(n_) && warm_valid_[b];
+  // Only jointed bodies (last step's marks; joints do not come and go): other bodies start
+  // from their warm guess only when their island's move there is clear, and the free path
+  // keeps this prediction, which must stay orthogonalised.
+  const bool warm = warm_valid_.size() == static_cast<std::size_t>(n_) && warm_valid_[b] &&
+                    jointed_.size() == static_cast<std::size_t>(n_) && jointed_[b];
   if (!constrained_[b] && !warm) {
     const Mat3 A = affine_A(pred);
     Mat3 At_inv;
