@@ -156,6 +156,7 @@ def load_urdf(
     body_of_joint: dict[int, int] = {}
     # Massless links without geometry that carry a joint (multi-axis hips): joint frames.
     donors = {} if kinematic else frame_donors(model, set(geoms_of))
+    frames = {j: frame_mass(model, kin, j, d) for j, d in donors.items()}
     keep = donor_keep(donors)
     if donors:
         notes.append(frames_note(model, donors, links_of))
@@ -190,9 +191,8 @@ def load_urdf(
                 continue
         if proxy:
             name = links[0] if links else model.names[j]
-            if j in donors:
-                mass = frame_mass(model, kin, j, donors[j])
-                surfaces = [inertia_box(f"{name} (joint frame)", *mass)]
+            if j in frames:
+                surfaces = [inertia_box(f"{name} (joint frame)", *frames[j])]
             else:
                 surfaces = [
                     inertia_box(
@@ -221,8 +221,8 @@ def load_urdf(
                     f"mass (links without <inertial>: {missing}): using its geometry's mass at "
                     "1000 kg/m^3 (pass mass_density= to choose the density)"
                 )
-            if j in donors:
-                mass = frame_mass(model, kin, j, donors[j])
+            if j in frames:
+                mass = frames[j]
             else:
                 mass = _joint_mass(model, j, links, link_mass, mass_density or 1e3)
             if j in keep and mass is not None:  # the share its joint frames carry

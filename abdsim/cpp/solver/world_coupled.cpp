@@ -357,6 +357,10 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     // the Newton tolerances of the solution, where an Armijo test compares round-off-sized
     // changes of Π (it could only keep such an island where it is, alpha 0, or cut the step
     // and iterate once more).
+    // Levenberg–Marquardt damping of an island whose step Armijo did not cut: relaxed.
+    auto relax_damping = [&](int r) {
+      damping_[r] = damping_[r] > 1e-3 ? 0.25 * damping_[r] : 0.0;
+    };
     bool take_whole = lazy_energies;
     for (int b = 0; b < n_ && take_whole; ++b)
       if (!inactive[b]) take_whole = converged_[island(b)] && alpha_[island(b)] == 1.0;
@@ -366,8 +370,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
         if (!inactive[b]) trial_.segment<12>(12 * b) += dq_.segment<12>(12 * b);
       d.line_search_alphas.push_back(1.0);
       for (int r = 0; r < n_; ++r)
-        if (!inactive[r] && island(r) == r)
-          damping_[r] = damping_[r] > 1e-3 ? 0.25 * damping_[r] : 0.0;
+        if (!inactive[r] && island(r) == r) relax_damping(r);
       d.time_line_search += lap.split();
       x_.swap(trial_);
       stale = true;
@@ -477,7 +480,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
         if (halved_[r])
           damping_[r] = damping_[r] > 0.0 ? std::min(2.0 * damping_[r], 1e6) : 1.0;
         else
-          damping_[r] = damping_[r] > 1e-3 ? 0.25 * damping_[r] : 0.0;
+          relax_damping(r);
       }
       d.time_line_search += lap.split();
       x_.swap(trial_);
