@@ -165,6 +165,19 @@ class World {
   void start_iterate(bool split, double c2, StepDiagnostics& d);
   void lag_at_start();
   void balance_term_stiffness(double c2, const VecX& grad_bodies);
+  // world_line_search.cpp: Armijo backtracking per island from x_ along dq_, each island
+  // from its alpha_ (its step bound) down by halves; the accepted iterate is left in trial_
+  // with its per-body Π in body_E_new_ and the rest of Π in rest_new. Returns -1, or the
+  // root of an unconverged island for which no halving decreased Π (the solve fails).
+  int armijo_search_islands(double c2, bool split, double rest,
+                            std::vector<std::uint8_t>& inactive, double& rest_new,
+                            StepDiagnostics& d);
+  void sum_islands(bool split, double rest, const std::vector<std::uint8_t>& inactive,
+                   int rest_root);
+  // After a step (line search or whole): which islands' convergence stands, the smallest
+  // alpha for the diagnostics, and each island's damping raised or relaxed.
+  void judge_island_steps(const std::vector<std::uint8_t>& inactive, const VecX& island_ratio,
+                          StepDiagnostics& d);
   // Π_b of one movable body without terms (kinetic or drive, plus c² shape); with g and H
   // (if non-null) its gradient and Hessian.
   double body_energy(int b, const Vec12& x, double c2, Vec12* g, Mat12* H) const;

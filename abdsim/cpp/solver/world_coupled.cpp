@@ -16,8 +16,8 @@
 //     (rotation_exact_step), and an island whose steps Armijo keeps cutting gets
 //     Levenberg–Marquardt damping.
 // All reductions run over bodies in index order, so results do not depend on threads.
-// Steps 1-2: world_start.cpp; Π and step bounds: world_energy.cpp; islands: world_islands.cpp;
-// constraints: world_constraints.cpp. Terms and constraints are seen only through
+// Steps 1-2: world_start.cpp; Π and step bounds: world_energy.cpp; the line search:
+// world_line_search.cpp; islands: world_islands.cpp; constraints: world_constraints.cpp. Terms and constraints are seen only through
 // EnergyTerm and Constraint (nothing here knows contact or joints).
 #include <algorithm>
 #include <cmath>
@@ -357,10 +357,6 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     // the Newton tolerances of the solution, where an Armijo test compares round-off-sized
     // changes of Π (it could only keep such an island where it is, alpha 0, or cut the step
     // and iterate once more).
-    // Levenberg–Marquardt damping of an island whose step Armijo did not cut: relaxed.
-    auto relax_damping = [&](int r) {
-      damping_[r] = damping_[r] > 1e-3 ? 0.25 * damping_[r] : 0.0;
-    };
     bool take_whole = lazy_energies;
     for (int b = 0; b < n_ && take_whole; ++b)
       if (!inactive[b]) take_whole = converged_[island(b)] && alpha_[island(b)] == 1.0;
@@ -368,125 +364,27 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       trial_ = x_;
       for (int b = 0; b < n_; ++b)
         if (!inactive[b]) trial_.segment<12>(12 * b) += dq_.segment<12>(12 * b);
-      d.line_search_alphas.push_back(1.0);
-      for (int r = 0; r < n_; ++r)
-        if (!inactive[r] && island(r) == r) relax_damping(r);
-      d.time_line_search += lap.split();
-      x_.swap(trial_);
       stale = true;
     } else {
       if (stale) energies_at_x();
-      // Armijo line search, per island, all islands per contact query.
-      island_E_.setZero(n_);
-      island_slope_.setZero(n_);
-      for (int b = 0; b < n_; ++b) {
-        if (inactive[b]) continue;
-        const int r = island(b);
-        island_E_[r] += body_E_[b];
-        island_slope_[r] += grad_.segment<12>(12 * b).dot(dq_.segment<12>(12 * b));
-      }
-      // Terms that do not split couple everything: a single island carries their energy.
-      int rest_root = -1;
-      for (int b = 0; b < n_ && rest_root < 0; ++b)
-        if (movable_[b]) rest_root = island(b);
-      if (!split && rest_root >= 0) island_E_[rest_root] += rest;
-
       double rest_new = rest;
-      bool failed = false;
-      for (int ls = 0; ls <= settings_.max_line_search_iterations; ++ls) {
-        trial_ = x_;
-        for (int b = 0; b < n_; ++b)
-          if (!inactive[b]) trial_.segment<12>(12 * b) += alpha_[island(b)] * dq_.segment<12>(12 * b);
-        links.clear();
-        rest_new = body_energies(trial_, c2, body_E_new_, links);
-        bool merged = false;
-        for (const BodyLink& l : links) merged = merge_islands(l.a, l.b) || merged;
-        if (merged) {  // not expected (the step bounds linked every pair in reach): start over
-          island_E_.setZero(n_);
-          island_slope_.setZero(n_);
-          for (int b = 0; b < n_; ++b) {
-            inactive[b] = !(movable_[b] && !frozen_[island(b)]);
-            if (inactive[b]) continue;
-            const int r = island(b);
-            island_E_[r] += body_E_[b];
-            island_slope_[r] += grad_.segment<12>(12 * b).dot(dq_.segment<12>(12 * b));
-          }
-          if (!split && rest_root >= 0) island_E_[rest_root] += rest;
-          continue;
-        }
-        island_E_new_.setZero(n_);
-        for (int b = 0; b < n_; ++b)
-          if (!inactive[b]) island_E_new_[island(b)] += body_E_new_[b];
-        if (!split && rest_root >= 0) island_E_new_[rest_root] += rest_new;
-        bool any_pending = false;
-        for (int r = 0; r < n_; ++r) {
-          if (inactive[r] || island(r) != r || !pending_[r]) continue;
-          const double E0 = island_E_[r];
-          if (island_E_new_[r] <= E0 + settings_.armijo_c * alpha_[r] * island_slope_[r] +
-                                      roundoff(E0)) {
-            pending_[r] = 0;
-          } else if (ls == settings_.max_line_search_iterations) {
-            failed = true;
-          } else {
-            alpha_[r] *= 0.5;
-            halved_[r] = 1;
-            ++d.line_search_halvings;
-            any_pending = true;
-          }
-        }
-        if (!any_pending) break;
+      const int r = armijo_search_islands(c2, split, rest, inactive, rest_new, d);
+      if (r >= 0) {
+        std::ostringstream msg;
+        msg << "Newton failed at step " << step_count_ << " (t = " << time_
+            << "): the line search found no decrease of Π in "
+            << settings_.max_line_search_iterations << " halvings (iteration " << it + 1 << ", "
+            << describe(r) << " and the bodies coupled to it, step bound "
+            << std::min(bound_[r], global) << ", last step " << island_st[r] << " m/s, "
+            << island_sa[r] << " 1/s)";
+        throw SolverError(msg.str());
       }
-      if (failed) {
-        // A converged island whose step does not decrease Π just stays; any other fails.
-        for (int r = 0; r < n_; ++r) {
-          if (inactive[r] || island(r) != r || !pending_[r]) continue;
-          if (!converged_[r]) {
-            std::ostringstream msg;
-            msg << "Newton failed at step " << step_count_ << " (t = " << time_
-                << "): the line search found no decrease of Π in "
-                << settings_.max_line_search_iterations << " halvings (iteration " << it + 1
-                << ", " << describe(r) << " and the bodies coupled to it, step bound "
-                << std::min(bound_[r], global) << ", last step " << island_st[r] << " m/s, "
-                << island_sa[r] << " 1/s)";
-            throw SolverError(msg.str());
-          }
-          alpha_[r] = 0.0;
-          pending_[r] = 0;
-        }
-        trial_ = x_;
-        for (int b = 0; b < n_; ++b)
-          if (!inactive[b]) trial_.segment<12>(12 * b) += alpha_[island(b)] * dq_.segment<12>(12 * b);
-        links.clear();
-        rest_new = body_energies(trial_, c2, body_E_new_, links);
-      }
-      // A small direction only proves convergence when the island took it whole: a step the
-      // CCD bound or Armijo shortened says the model is off there. Exceptions: alpha 0 (a
-      // converged island whose step no longer decreases Π: round-off) and directions a
-      // hundred times below tolerance (bounds and Armijo tests are noise at that size).
-      for (int r = 0; r < n_; ++r)
-        if (!inactive[r] && island(r) == r && alpha_[r] > 0.0 && alpha_[r] < 1.0 &&
-            island_ratio[r] * (1.0 + damping_[r]) > kRoundoffStep)
-          converged_[r] = 0;
-      double min_alpha = 1.0;
-      for (int r = 0; r < n_; ++r)
-        if (!inactive[r] && island(r) == r) min_alpha = std::min(min_alpha, alpha_[r]);
-      d.line_search_alphas.push_back(min_alpha);
-      // Levenberg–Marquardt damping per island (ν M added to the Newton matrix): raised when
-      // Armijo had to cut the step (the quadratic model overshot, typically a soft rotation
-      // of a body on few contacts), relaxed when it did not. An island only converges
-      // undamped.
-      for (int r = 0; r < n_; ++r) {
-        if (inactive[r] || island(r) != r) continue;
-        if (halved_[r])
-          damping_[r] = damping_[r] > 0.0 ? std::min(2.0 * damping_[r], 1e6) : 1.0;
-        else
-          relax_damping(r);
-      }
-      d.time_line_search += lap.split();
-      x_.swap(trial_);
       body_E_.swap(body_E_new_);
       rest = rest_new;
     }
+    judge_island_steps(inactive, island_ratio, d);
+    d.time_line_search += lap.split();
+    x_.swap(trial_);
     if (nonlinear_constraints_ && project_constraints()) {
       // Back onto the constraints that the linearised step only met to first order (Π
       // again where that moved the iterate).
