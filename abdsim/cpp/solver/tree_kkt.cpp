@@ -176,11 +176,14 @@ bool TreeKkt::factor_rows(Node& node, Vec12& t, Vec12& lambda) {
     Qt.setZero();  // a root has no Q
   }
   if (m == 0) return true;
-  // S = W Wᵀ + D (its leading m columns; rows past m stay zero), column by column.
+  // S = W Wᵀ + D (its leading m columns; rows past m stay zero), column by column with the
+  // sum in registers.
   node.LS.setZero();
-  for (int j = 0; j < 12; ++j)
-    for (int k = 0; k < m; ++k)
-      node.LS.col(k).template head<R>() += node.W(k, j) * node.W.col(j).template head<R>();
+  for (int k = 0; k < m; ++k) {
+    Eigen::Matrix<double, R, 1> column = Eigen::Matrix<double, R, 1>::Zero();
+    for (int j = 0; j < 12; ++j) column += node.W(k, j) * node.W.col(j).template head<R>();
+    node.LS.col(k).template head<R>() = column;
+  }
   node.LS.diagonal() += node.D;  // the padding: 1
   lambda = node.c;
   lambda.noalias() += node.W.lazyProduct(t);
@@ -212,7 +215,7 @@ bool TreeKkt::factor_node(int b) {
     parent.r.noalias() -= node.coupling->transpose() * node.yx;
   }
   if (m > 0) {
-    for (int k = 0; k < m; ++k) dense::add_outer(parent.L, node.Qt.col(k));
+    dense::add_gram(parent.L, node.Qt, m);
     parent.r.noalias() -= node.JPt.lazyProduct(node.yl);
   }
   return true;

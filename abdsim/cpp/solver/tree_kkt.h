@@ -50,7 +50,7 @@ class TreeKkt {
     const Mat12* coupling = nullptr;  // H_bP (rows b, columns P), null when zero
     Mat12 own_coupling;               // where coupling points when soft rows were folded in
     Mat12 L;                          // H_bb (updated by the children), then its Cholesky factor
-    Mat12 Lt;                         // Lᵀ's unit upper factor (dense::unit_upper)
+    Mat12 Lt;                         // Lᵀ's unit upper factor (dense::cholesky_forward)
     Vec12 r;                          // rhs_b, updated by the children
     Vec12 L_inv_diagonal;             // 1 / diag(L)
     int m = 0;                        // rows 0..hard−1 are hard, hard..m−1 soft
