@@ -3,7 +3,7 @@
 // Eigen's triangular solves dispatch to its generic dynamic-size kernels, whose set-up costs
 // more than the arithmetic at this size. A factor L is lower-triangular and lives in the
 // lower triangle of the matrix it was computed in (zeros above), with the unit upper factor
-// of Lᵀ in a second matrix (unit_upper); the solves multiply by 1 / diag(L), which the
+// of Lᵀ in a second matrix (cholesky_forward's At); the solves multiply by 1 / diag(L), which the
 // factorisation returns (a division in their dependency chain costs several
 // multiplications). Every loop updates whole columns
 // of fixed length (the zeros of the triangles make that exact): fixed-size column updates
@@ -16,19 +16,11 @@
 
 namespace abd::dense {
 
-// Lᵀ = diag(L) U with U unit upper: U's strict upper triangle, by columns (U(i, j) =
-// L(j, i) / L(i, i), zero on and below the diagonal). Back-substitution with U needs no
-// multiplication between one entry and the next (upper_solve).
-inline void unit_upper(const Mat12& L, const Vec12& inv_diagonal, Mat12& U) {
-  U = L.transpose();
-  for (int j = 0; j < 12; ++j) {
-    U.col(j) = U.col(j).cwiseProduct(inv_diagonal);
-    U(j, j) = 0.0;
-  }
-}
-
 // A = L Lᵀ in place over the leading n x n block, read from its lower triangle (inv_diagonal:
-// 1 there, 1 beyond; the block's strict upper triangle is zeroed) and At = unit_upper(L),
+// 1 there, 1 beyond; the block's strict upper triangle is zeroed) and At = the unit upper
+// factor U of Lᵀ = diag(L) U (U(i, j) = L(j, i) / L(i, i), zero on and below the diagonal:
+// back-substitution with it needs no multiplication between one entry and the next,
+// upper_solve),
 // with the forward solves that follow a factorisation done in the same sweep: t ← L⁻¹ t and
 // W ← W L⁻ᵀ over W's leading n columns (every row w of W solves L wᵀ = (its value)ᵀ). R: A's
 // column updates (and t's) run over the leading R >= n rows only, the rows below the block
@@ -46,6 +38,7 @@ template <int R, int RW>
 bool cholesky_forward(Mat12& A, Mat12& At, Vec12& inv_diagonal, Vec12& t, Mat12& W,
                       int n = 12) {
   inv_diagonal.setOnes();
+  At.setZero();
   Vec12 s = t;  // the unit-lower solve in progress (its rows < j are no longer read)
   for (int j = 0; j < n; ++j) {
     const double d = A(j, j);
@@ -53,22 +46,25 @@ bool cholesky_forward(Mat12& A, Mat12& At, Vec12& inv_diagonal, Vec12& t, Mat12&
     const double inv_d = 1.0 / d;
     // Right-looking, on whole columns: rows above the diagonal of a column receive values
     // that are zeroed below.
-    for (int k = j + 1; k < n; ++k)
-      A.col(k).template head<R>() -= (A(k, j) * inv_d) * A.col(j).template head<R>();
+    // f = a_kj / d is the unit-lower factor's entry (k, j), which is U(j, k): At's row j.
+    for (int k = j + 1; k < n; ++k) {
+      const double f = A(k, j) * inv_d;
+      At(j, k) = f;
+      A.col(k).template head<R>() -= f * A.col(j).template head<R>();
+    }
     const double l = std::sqrt(d);
     const double inv = l * inv_d;
     inv_diagonal[j] = inv;
     t[j] = s[j] * inv;
     s.template head<R>() -= (s[j] * inv_d) * A.col(j).template head<R>();
     for (int k = j + 1; k < n; ++k)
-      W.col(k).template head<RW>() -= (A(k, j) * inv_d) * W.col(j).template head<RW>();
+      W.col(k).template head<RW>() -= At(j, k) * W.col(j).template head<RW>();
     W.col(j).template head<RW>() *= inv;
     A.col(j).template head<R>() *= inv;
     A(j, j) = l;
   }
   for (int j = 1; j < n; ++j)
     for (int i = 0; i < j; ++i) A(i, j) = 0.0;
-  unit_upper(A, inv_diagonal, At);
   return true;
 }
 
@@ -82,7 +78,7 @@ inline void lower_solve(const Mat12& L, const Vec12& inv_diagonal, Vec12& v, int
   }
 }
 
-// v ← L⁻ᵀ v over the leading n entries, from U = unit_upper(L) (cholesky's At): U v' = v / diag(L).
+// v ← L⁻ᵀ v over the leading n entries, from U (cholesky_forward's At): U v' = v / diag(L).
 inline void upper_solve(const Mat12& U, const Vec12& inv_diagonal, Vec12& v, int n = 12) {
   v = v.cwiseProduct(inv_diagonal);  // 1 past n
   for (int j = n - 1; j > 0; --j) v.noalias() -= v[j] * U.col(j);
@@ -103,10 +99,15 @@ inline void subtract_gram(const Mat12& V, Mat12& A) {
     for (int i = j; i < 12; ++i) A(i, j) -= V.col(i).dot(V.col(j));
 }
 
-// A += v vᵀ on whole columns (the lower triangle is what the factorisation reads).
-template <class V>
-void add_outer(Mat12& A, const V& v) {
-  for (int j = 0; j < 12; ++j) A.col(j) += v[j] * v;
+// A += X Xᵀ over X's leading n columns, on whole columns (the lower triangle is what the
+// factorisation reads). Column by column with the sum in registers: one load and one store
+// of A's column instead of one per rank-one term.
+inline void add_gram(Mat12& A, const Mat12& X, int n) {
+  for (int j = 0; j < 12; ++j) {
+    Vec12 column = A.col(j);
+    for (int k = 0; k < n; ++k) column += X(j, k) * X.col(k);
+    A.col(j) = column;
+  }
 }
 
 }  // namespace abd::dense

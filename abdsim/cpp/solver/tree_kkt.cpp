@@ -144,17 +144,6 @@ bool TreeKkt::build_forest(const BlockSystem& system, const std::vector<Constrai
   return true;
 }
 
-void TreeKkt::solve_node(const Node& node, const Vec12& t, Vec12& lambda, Vec12& x) {
-  // H x + Jᵀ λ = rhs, J x − D λ = −c: λ = S⁻¹ (J H⁻¹ rhs + c), x = H⁻¹ (rhs − Jᵀ λ); with
-  // H = L Lᵀ and t = L⁻¹ rhs, J H⁻¹ rhs = W t and H⁻¹ Jᵀ λ = L⁻ᵀ Wᵀ λ.
-  x = t;
-  if (node.m > 0) {
-    dense::upper_solve(node.LSt, node.LS_inv_diagonal, lambda, node.m);
-    x.noalias() -= node.W.transpose().lazyProduct(lambda);
-  }
-  dense::upper_solve(node.Lt, node.L_inv_diagonal, x);
-}
-
 // H_bb = L Lᵀ with t = L⁻¹ r_b and W ← J L⁻ᵀ in the same sweep; Qᵀ = (W V − J_P)ᵀ with
 // V = L⁻¹ H_bP; then S = W Wᵀ + D = L_S L_Sᵀ with λ = L_S⁻¹ (c + W t) and Qᵀ ← Qᵀ L_S⁻ᵀ in
 // that sweep. On the leading R >= m rows of W (the rows past m are zero padding: a revolute
@@ -176,11 +165,14 @@ bool TreeKkt::factor_rows(Node& node, Vec12& t, Vec12& lambda) {
     Qt.setZero();  // a root has no Q
   }
   if (m == 0) return true;
-  // S = W Wᵀ + D (its leading m columns; rows past m stay zero), column by column.
+  // S = W Wᵀ + D (its leading m columns; rows past m stay zero), column by column with the
+  // sum in registers.
   node.LS.setZero();
-  for (int j = 0; j < 12; ++j)
-    for (int k = 0; k < m; ++k)
-      node.LS.col(k).template head<R>() += node.W(k, j) * node.W.col(j).template head<R>();
+  for (int k = 0; k < m; ++k) {
+    Eigen::Matrix<double, R, 1> column = Eigen::Matrix<double, R, 1>::Zero();
+    for (int j = 0; j < 12; ++j) column += node.W(k, j) * node.W.col(j).template head<R>();
+    node.LS.col(k).template head<R>() = column;
+  }
   node.LS.diagonal() += node.D;  // the padding: 1
   lambda = node.c;
   lambda.noalias() += node.W.lazyProduct(t);
@@ -203,17 +195,18 @@ bool TreeKkt::factor_node(int b) {
     const double lo = pivots.minCoeff(), hi = pivots.maxCoeff();
     if (!(lo * lo > kPivotFloor * hi * hi)) return false;
   }
-  solve_node(node, t, lambda, node.yx);
-  node.yl = lambda;
+  node.t = t;
+  node.lambda = lambda;
   if (node.parent < 0) return true;
+  // P's rhs loses C_bᵀ K_b⁻¹ z_b = Vᵀ t − Qᵀ λ (tree_kkt.h): no solve with K_b here.
   Node& parent = nodes_[node.parent];
   if (node.coupling) {
     dense::subtract_gram(node.V, parent.L);
-    parent.r.noalias() -= node.coupling->transpose() * node.yx;
+    parent.r.noalias() -= node.V.transpose() * t;
   }
   if (m > 0) {
-    for (int k = 0; k < m; ++k) dense::add_outer(parent.L, node.Qt.col(k));
-    parent.r.noalias() -= node.JPt.lazyProduct(node.yl);
+    dense::add_gram(parent.L, node.Qt, m);
+    parent.r.noalias() += node.Qt.lazyProduct(lambda);
   }
   return true;
 }
@@ -292,26 +285,24 @@ bool TreeKkt::solve(const BlockSystem& system, const std::vector<ConstraintRow>&
     if (!factor_node(*it)) return false;
 
   x.setZero(12 * system.num_bodies());
-  Vec12 w, lambda;
+  Vec12 w, mu;
   for (const int b : order_) {
+    // x_b = K_b⁻¹ (z_b − C_b x_P) = L⁻ᵀ (t − V x_P − Wᵀ L_S⁻ᵀ (λ − Q x_P)) (x_P = 0 for a
+    // root).
     const Node& node = nodes_[b];
-    if (node.parent < 0) {
-      x.segment<12>(12 * b) = node.yx;
-      continue;
+    w = node.t;
+    if (node.m > 0) mu = node.lambda;
+    if (node.parent >= 0) {
+      const Vec12 xp = x.segment<12>(12 * node.parent);
+      if (node.coupling) w.noalias() -= node.V.lazyProduct(xp);
+      if (node.m > 0) mu.noalias() -= node.Qt.transpose().lazyProduct(xp);
     }
-    // u_b = y_b − K_b⁻¹ C_b x_P, K_b⁻¹ C_b x_P = L⁻ᵀ (V x_P − Wᵀ λ), λ = L_S⁻ᵀ Q x_P.
-    const Vec12 xp = x.segment<12>(12 * node.parent);
-    if (node.coupling)
-      w.noalias() = node.V.lazyProduct(xp);
-    else
-      w.setZero();
     if (node.m > 0) {
-      lambda.noalias() = node.Qt.transpose().lazyProduct(xp);
-      dense::upper_solve(node.LSt, node.LS_inv_diagonal, lambda, node.m);
-      w.noalias() -= node.W.transpose().lazyProduct(lambda);
+      dense::upper_solve(node.LSt, node.LS_inv_diagonal, mu, node.m);
+      w.noalias() -= node.W.transpose().lazyProduct(mu);
     }
     dense::upper_solve(node.Lt, node.L_inv_diagonal, w);
-    x.segment<12>(12 * b) = node.yx - w;
+    x.segment<12>(12 * b) = w;
   }
   return x.allFinite();
 }

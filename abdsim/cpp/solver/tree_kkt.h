@@ -11,12 +11,15 @@
 // no refinement.
 //
 // Per node b with parent P: K_b = [H_bb Jᵀ; J −D] (H_bb already updated by b's children),
-// C_b = [H_bP; J_P] its coupling to x_P. With y_b = K_b⁻¹ z_b, P gets
-// H_PP −= C_bᵀ K_b⁻¹ C_b and z_P −= C_bᵀ y_b; back-substitution from the roots:
-// u_b = y_b − K_b⁻¹ C_b x_P. With H_bb = L Lᵀ, W = J L⁻ᵀ and S = W Wᵀ + D = L_S L_Sᵀ,
-// C_bᵀ K_b⁻¹ C_b = VᵀV − QᵀQ for V = L⁻¹ H_bP and Q = L_S⁻¹ (W V − J_P): two symmetric
-// products; K_b⁻¹ C_b x_P = L⁻ᵀ (V x_P − Wᵀ L_S⁻ᵀ Q x_P) reuses V and Q. A soft row instead of a dense
-// coupling block makes V = 0: a rank-one update per row instead of 12x12 products.
+// C_b = [H_bP; J_P] its coupling to x_P. P gets H_PP −= C_bᵀ K_b⁻¹ C_b and
+// z_P −= C_bᵀ K_b⁻¹ z_b; back-substitution from the roots: u_b = K_b⁻¹ (z_b − C_b x_P).
+// With H_bb = L Lᵀ, W = J L⁻ᵀ and S = W Wᵀ + D = L_S L_Sᵀ, K_b = F diag(I, −I) Fᵀ for
+// F = [L 0; W L_S], so with F⁻¹ C_b = [V; −Q] (V = L⁻¹ H_bP, Q = L_S⁻¹ (W V − J_P)) and
+// F⁻¹ z_b = [t; −λ] (t = L⁻¹ r_b, λ = L_S⁻¹ (c + W t)): C_bᵀ K_b⁻¹ C_b = VᵀV − QᵀQ (two
+// symmetric products), C_bᵀ K_b⁻¹ z_b = Vᵀ t − Qᵀ λ, and
+// u_b = L⁻ᵀ (t − V x_P − Wᵀ L_S⁻ᵀ (λ − Q x_P)): the elimination needs no solve with K_b, the
+// back-substitution one per node. A soft row instead of a dense coupling block makes V = 0:
+// a rank-one update per row instead of 12x12 products.
 //
 // Sizes are fixed (12 unknowns, at most 12 rows per node) and the kernels are written for
 // them (solver/small_dense.h): a solve allocates nothing once sized. The forest (parents, elimination order,
@@ -50,7 +53,7 @@ class TreeKkt {
     const Mat12* coupling = nullptr;  // H_bP (rows b, columns P), null when zero
     Mat12 own_coupling;               // where coupling points when soft rows were folded in
     Mat12 L;                          // H_bb (updated by the children), then its Cholesky factor
-    Mat12 Lt;                         // Lᵀ's unit upper factor (dense::unit_upper)
+    Mat12 Lt;                         // Lᵀ's unit upper factor (dense::cholesky_forward)
     Vec12 r;                          // rhs_b, updated by the children
     Vec12 L_inv_diagonal;             // 1 / diag(L)
     int m = 0;                        // rows 0..hard−1 are hard, hard..m−1 soft
@@ -61,7 +64,8 @@ class TreeKkt {
     Mat12 LS;                         // Cholesky factor of S = W Wᵀ + D
     Mat12 LSt;                        // L_Sᵀ's unit upper factor
     Vec12 LS_inv_diagonal;
-    Vec12 yx, yl;                     // y_b = K_b⁻¹ z_b: x part, λ part
+    Vec12 t, lambda;                  // F⁻¹ z_b (K_b = F diag(I, −I) Fᵀ): t = L⁻¹ r_b,
+                                      // λ = L_S⁻¹ (c + W t)
     Mat12 V;                          // L⁻¹ H_bP (with a coupling)
     Mat12 Qt;                         // Qᵀ, Q = L_S⁻¹ (W V − J_P); V, Qt: back-substitution
   };
@@ -80,9 +84,6 @@ class TreeKkt {
   // (R: rows of W computed).
   template <int R>
   static bool factor_rows(Node& node, Vec12& t, Vec12& lambda);
-  // K_b⁻¹ [rhs; −c] for the node's factors from t = L⁻¹ rhs and λ = L_S⁻¹ (c + W t): x, and
-  // λ (the multipliers) in place.
-  static void solve_node(const Node& node, const Vec12& t, Vec12& lambda, Vec12& x);
 
   std::vector<Node> nodes_;
   std::vector<int> order_;                 // free bodies, every parent before its children
