@@ -94,7 +94,10 @@ bool TreeKkt::build_forest(const BlockSystem& system, const std::vector<Constrai
     if (r < 0 || (!unary_[r] && unary_[b])) r = b;
   }
   nodes_.resize(n);
-  for (Node& node : nodes_) node.parent = -2;  // unvisited
+  for (Node& node : nodes_) {
+    node.parent = -2;  // unvisited
+    node.zeroed = false;
+  }
   order_.clear();
   for (int b = 0; b < n; ++b) {
     if (!free_body(b) || root_[find(uf_, b)] != b) continue;
@@ -167,13 +170,13 @@ bool TreeKkt::factor_rows(Node& node, Vec12& t, Vec12& lambda) {
   if (m == 0) return true;
   // S = W Wᵀ + D (its leading m columns; rows past m stay zero), column by column with the
   // sum in registers.
-  node.LS.setZero();
   for (int k = 0; k < m; ++k) {
     Eigen::Matrix<double, R, 1> column = Eigen::Matrix<double, R, 1>::Zero();
     for (int j = 0; j < 12; ++j) column += node.W(k, j) * node.W.col(j).template head<R>();
     node.LS.col(k).template head<R>() = column;
   }
-  node.LS.diagonal() += node.D;  // the padding: 1
+  // Only the leading m columns (and R rows) are read: the rest of L_S is left as it is.
+  node.LS.diagonal().head(m) += node.D.head(m);
   lambda = node.c;
   lambda.noalias() += node.W.lazyProduct(t);
   // Rows past m are padding (S = I there): only the leading m x m block is factorised.
@@ -230,8 +233,11 @@ bool TreeKkt::gather(int b, const BlockSystem& system, const std::vector<Constra
   }
   const int count = row_start_[b + 1] - row_start_[b];
   node.m = std::min(count, kMaxRows);
-  node.W.setZero();
-  node.JPt.setZero();
+  if (!node.zeroed) {  // the padding stays zero while the forest (and each node's m) stays
+    node.W.setZero();
+    node.JPt.setZero();
+    node.zeroed = true;
+  }
   node.c.setZero();
   node.D.setOnes();  // padding rows: zero rows of compliance 1
   for (int k = 0; k < count; ++k) {

@@ -60,6 +60,9 @@ class TreeKkt {
     int hard = 0;
     Mat12 W;                          // the rows J on x_b (row k: row k), then J L⁻ᵀ
     Mat12 JPt;                        // the rows on x_P, transposed (column k: row k)
+    // W's rows and JPt's columns past m are zero, and each row k < m fills the same ones
+    // (a row that is not on x_P leaves its column of JPt zero) while the forest is kept.
+    bool zeroed = false;
     Vec12 c, D;                       // the rows' values and compliances
     Mat12 LS;                         // Cholesky factor of S = W Wᵀ + D
     Mat12 LSt;                        // L_Sᵀ's unit upper factor
