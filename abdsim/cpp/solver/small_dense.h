@@ -39,8 +39,8 @@ void axpy_below(Y&& y, double f, const X& x, int first) {
 // 1 there, 1 beyond; the block's strict upper triangle is zeroed) and At = the unit upper
 // factor U of Lᵀ = diag(L) U (U(i, j) = L(j, i) / L(i, i), zero on and below the diagonal:
 // back-substitution with it needs no multiplication between one entry and the next,
-// upper_solve),
-// with the forward solves that follow a factorisation done in the same sweep: t ← L⁻¹ t and
+// upper_solve; only the block's strict upper triangle is written, the rest of At must be
+// zero already), with the forward solves that follow a factorisation done in the same sweep: t ← L⁻¹ t and
 // W ← W L⁻ᵀ over W's leading n columns (every row w of W solves L wᵀ = (its value)ᵀ). R: A's
 // column updates (and t's) run over the leading R >= n rows only, the rows below the block
 // must be zero in its columns (they stay zero), and t's entries past R are left; RW: W's rows
@@ -57,7 +57,6 @@ template <int R, int RW>
 bool cholesky_forward(Mat12& A, Mat12& At, Vec12& inv_diagonal, Vec12& t, Mat12& W,
                       int n = 12) {
   inv_diagonal.setOnes();
-  At.setZero();
   Vec12 s = t;  // the unit-lower solve in progress (its rows < j are no longer read)
   for (int j = 0; j < n; ++j) {
     const double d = A(j, j);
