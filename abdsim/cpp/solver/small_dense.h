@@ -16,12 +16,31 @@
 
 namespace abd::dense {
 
+// y −= f x on rows first..R−1 of two columns of R rows (R = 12: on the fewest whole packets
+// that cover them, 8 + 4, 8 from row 4 or the last 4; smaller R: all R rows). Rows above
+// `first` may change too: cholesky_forward only reads what lies below the diagonal.
+template <int R, class Y, class X>
+void axpy_below(Y&& y, double f, const X& x, int first) {
+  if constexpr (R == 12) {
+    if (first >= 8) {
+      y.template tail<4>() -= f * x.template tail<4>();
+    } else if (first >= 4) {
+      y.template segment<8>(4) -= f * x.template segment<8>(4);
+    } else {
+      y.template head<8>() -= f * x.template head<8>();
+      y.template tail<4>() -= f * x.template tail<4>();
+    }
+  } else {
+    y.template head<R>() -= f * x.template head<R>();
+  }
+}
+
 // A = L Lᵀ in place over the leading n x n block, read from its lower triangle (inv_diagonal:
 // 1 there, 1 beyond; the block's strict upper triangle is zeroed) and At = the unit upper
 // factor U of Lᵀ = diag(L) U (U(i, j) = L(j, i) / L(i, i), zero on and below the diagonal:
 // back-substitution with it needs no multiplication between one entry and the next,
-// upper_solve),
-// with the forward solves that follow a factorisation done in the same sweep: t ← L⁻¹ t and
+// upper_solve; only the block's strict upper triangle is written, the rest of At must be
+// zero already), with the forward solves that follow a factorisation done in the same sweep: t ← L⁻¹ t and
 // W ← W L⁻ᵀ over W's leading n columns (every row w of W solves L wᵀ = (its value)ᵀ). R: A's
 // column updates (and t's) run over the leading R >= n rows only, the rows below the block
 // must be zero in its columns (they stay zero), and t's entries past R are left; RW: W's rows
@@ -38,7 +57,6 @@ template <int R, int RW>
 bool cholesky_forward(Mat12& A, Mat12& At, Vec12& inv_diagonal, Vec12& t, Mat12& W,
                       int n = 12) {
   inv_diagonal.setOnes();
-  At.setZero();
   Vec12 s = t;  // the unit-lower solve in progress (its rows < j are no longer read)
   for (int j = 0; j < n; ++j) {
     const double d = A(j, j);
@@ -50,13 +68,13 @@ bool cholesky_forward(Mat12& A, Mat12& At, Vec12& inv_diagonal, Vec12& t, Mat12&
     for (int k = j + 1; k < n; ++k) {
       const double f = A(k, j) * inv_d;
       At(j, k) = f;
-      A.col(k).template head<R>() -= f * A.col(j).template head<R>();
+      axpy_below<R>(A.col(k), f, A.col(j), k);  // column k's rows >= k
     }
     const double l = std::sqrt(d);
     const double inv = l * inv_d;
     inv_diagonal[j] = inv;
     t[j] = s[j] * inv;
-    s.template head<R>() -= (s[j] * inv_d) * A.col(j).template head<R>();
+    axpy_below<R>(s, s[j] * inv_d, A.col(j), j + 1);
     for (int k = j + 1; k < n; ++k)
       W.col(k).template head<RW>() -= At(j, k) * W.col(j).template head<RW>();
     W.col(j).template head<RW>() *= inv;

@@ -94,7 +94,10 @@ bool TreeKkt::build_forest(const BlockSystem& system, const std::vector<Constrai
     if (r < 0 || (!unary_[r] && unary_[b])) r = b;
   }
   nodes_.resize(n);
-  for (Node& node : nodes_) node.parent = -2;  // unvisited
+  for (Node& node : nodes_) {
+    node.parent = -2;  // unvisited
+    node.zeroed = false;
+  }
   order_.clear();
   for (int b = 0; b < n; ++b) {
     if (!free_body(b) || root_[find(uf_, b)] != b) continue;
@@ -153,27 +156,22 @@ bool TreeKkt::factor_rows(Node& node, Vec12& t, Vec12& lambda) {
   const int m = node.m;
   if (!dense::cholesky_forward<12, R>(node.L, node.Lt, node.L_inv_diagonal, t, node.W))
     return false;
-  Mat12& Qt = node.Qt;
-  if (node.parent >= 0) {
-    Qt = -node.JPt;
-    if (node.coupling) {
-      node.V = *node.coupling;
-      dense::lower_solve(node.L, node.L_inv_diagonal, node.V);
-      if (m > 0) Qt.noalias() += node.V.transpose() * node.W.transpose();
-    }
-  } else {
-    Qt.setZero();  // a root has no Q
+  Mat12& Qt = node.Qt;  // −J_Pᵀ from gather (zero on a root, whose Q is not used)
+  if (node.parent >= 0 && node.coupling) {
+    node.V = *node.coupling;
+    dense::lower_solve(node.L, node.L_inv_diagonal, node.V);
+    if (m > 0) Qt.noalias() += node.V.transpose() * node.W.transpose();
   }
   if (m == 0) return true;
   // S = W Wᵀ + D (its leading m columns; rows past m stay zero), column by column with the
   // sum in registers.
-  node.LS.setZero();
   for (int k = 0; k < m; ++k) {
     Eigen::Matrix<double, R, 1> column = Eigen::Matrix<double, R, 1>::Zero();
     for (int j = 0; j < 12; ++j) column += node.W(k, j) * node.W.col(j).template head<R>();
     node.LS.col(k).template head<R>() = column;
   }
-  node.LS.diagonal() += node.D;  // the padding: 1
+  // Only the leading m columns (and R rows) are read: the rest of L_S is left as it is.
+  node.LS.diagonal().head(m) += node.D.head(m);
   lambda = node.c;
   lambda.noalias() += node.W.lazyProduct(t);
   // Rows past m are padding (S = I there): only the leading m x m block is factorised.
@@ -230,8 +228,13 @@ bool TreeKkt::gather(int b, const BlockSystem& system, const std::vector<Constra
   }
   const int count = row_start_[b + 1] - row_start_[b];
   node.m = std::min(count, kMaxRows);
-  node.W.setZero();
-  node.JPt.setZero();
+  if (!node.zeroed) {  // the padding stays zero while the forest (and each node's m) stays
+    node.W.setZero();
+    node.Qt.setZero();
+    node.Lt.setZero();
+    node.LSt.setZero();
+    node.zeroed = true;
+  }
   node.c.setZero();
   node.D.setOnes();  // padding rows: zero rows of compliance 1
   for (int k = 0; k < count; ++k) {
@@ -241,7 +244,10 @@ bool TreeKkt::gather(int b, const BlockSystem& system, const std::vector<Constra
       const bool own_a = r.body_a == b;
       node.W.row(k) = (own_a ? r.ja : r.jb).transpose();
       const int other = own_a ? r.body_b : r.body_a;
-      if (node.parent >= 0 && other == node.parent) node.JPt.col(k) = own_a ? r.jb : r.ja;
+      if (node.parent >= 0 && other == node.parent)
+        node.Qt.col(k) = -(own_a ? r.jb : r.ja);
+      else
+        node.Qt.col(k).setZero();
       node.c[k] = r.value;
       node.D[k] = 0.0;
       continue;
@@ -253,7 +259,7 @@ bool TreeKkt::gather(int b, const BlockSystem& system, const std::vector<Constra
     const Vec12& gp = own_a ? r.gb : r.ga;
     if (k < kMaxRows) {
       node.W.row(k) = g.transpose();
-      node.JPt.col(k) = gp;
+      node.Qt.col(k) = -gp;
       node.D[k] = 1.0 / r.k;
       continue;
     }
@@ -279,6 +285,9 @@ bool TreeKkt::solve(const BlockSystem& system, const std::vector<ConstraintRow>&
     key_.swap(key_scratch_);
     built_ = true;
   }
+  // A failed solve may leave non-finite values in the padding that gather keeps: the next
+  // solve builds the forest again.
+  built_ = false;
   for (const int b : order_)
     if (!gather(b, system, rows, rhs)) return false;
   for (auto it = order_.rbegin(); it != order_.rend(); ++it)
@@ -304,7 +313,8 @@ bool TreeKkt::solve(const BlockSystem& system, const std::vector<ConstraintRow>&
     dense::upper_solve(node.Lt, node.L_inv_diagonal, w);
     x.segment<12>(12 * b) = w;
   }
-  return x.allFinite();
+  built_ = x.allFinite();
+  return built_;
 }
 
 }  // namespace abd

@@ -59,7 +59,10 @@ class TreeKkt {
     int m = 0;                        // rows 0..hard−1 are hard, hard..m−1 soft
     int hard = 0;
     Mat12 W;                          // the rows J on x_b (row k: row k), then J L⁻ᵀ
-    Mat12 JPt;                        // the rows on x_P, transposed (column k: row k)
+    // W's rows and Qt's columns past m, and Lt's and LSt's entries on and below the
+    // diagonal are zero: set once per forest (each row k < m refills the same row of W and
+    // column of Qt; the factorisations write only above the diagonal of Lt and LSt).
+    bool zeroed = false;
     Vec12 c, D;                       // the rows' values and compliances
     Mat12 LS;                         // Cholesky factor of S = W Wᵀ + D
     Mat12 LSt;                        // L_Sᵀ's unit upper factor
@@ -67,7 +70,8 @@ class TreeKkt {
     Vec12 t, lambda;                  // F⁻¹ z_b (K_b = F diag(I, −I) Fᵀ): t = L⁻¹ r_b,
                                       // λ = L_S⁻¹ (c + W t)
     Mat12 V;                          // L⁻¹ H_bP (with a coupling)
-    Mat12 Qt;                         // Qᵀ, Q = L_S⁻¹ (W V − J_P); V, Qt: back-substitution
+    Mat12 Qt;                         // −J_Pᵀ (the rows on x_P, column k: row k), then
+                                      // Qᵀ, Q = L_S⁻¹ (W V − J_P)
   };
   // The forest of the rows' and couplings' bodies: parents, order_ (roots first) and which
   // rows each node carries. False when it has a loop or a node carries too many hard rows.
