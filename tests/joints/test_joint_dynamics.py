@@ -9,6 +9,7 @@ import pytest
 
 import abdsim
 from tests.joints.conftest import (
+    LINK,
     aba_rk4,
     chain_scene,
     link,
@@ -180,3 +181,36 @@ def test_set_state_off_the_joint_is_projected_back():
     d = world.step()
     assert d.joint_violation <= 1e-9
     assert abs(world.joint_positions()[0]) < 0.05  # the projection turned it a little (1.4e-2)
+
+
+LINK_LENGTH = LINK[2]
+
+
+def rot_x(angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+@pytest.mark.parametrize(
+    "tilts",
+    [(0.3, 0.3 + np.pi, 0.3 + np.pi - 2.5), (0.0, 2.5, 2.5), (1e-9, 0.0, 0.0), (-0.4, 0.5, 0.2)],
+)
+def test_joint_violation_is_the_worst_over_the_joints(tilts):
+    """Three hanging links tilted about x (across their y hinges) by `tilts`, each about its
+    top: joint k's axes are |tilt_k − tilt_{k−1}| apart (the world's axis: tilt 0; up to π,
+    antiparallel), and its anchors 2 |sin(tilt_{k−1} / 2)| (the parent's bottom swung about
+    its top). The worst of each, as the closed forms say."""
+    scene, _ = chain_scene([0.0, 0.0, 0.0])
+    world = abdsim.World(scene)
+    T = np.repeat(np.eye(4)[None], 3, axis=0)
+    for k, tilt in enumerate(tilts):
+        T[k, :3, :3] = rot_x(tilt)
+        T[k, :3, 3] = (0.0, 0.0, -k * LINK_LENGTH)
+    world.set_state(T)
+    previous = np.concatenate([[0.0], tilts[:-1]])
+    angles = np.abs(np.asarray(tilts) - previous)
+    angles = np.minimum(angles, 2 * np.pi - angles)
+    gaps = 2 * np.abs(np.sin(previous / 2)) * LINK_LENGTH
+    position, angle = world.joint_violation()
+    assert position == pytest.approx(gaps.max(), rel=1e-12, abs=1e-15)
+    assert angle == pytest.approx(angles.max(), rel=1e-9)

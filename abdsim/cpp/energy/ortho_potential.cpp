@@ -26,19 +26,23 @@ Vec9 flatten_rows(const Mat3& M) {
 
 // The exact Hessian, regrouped around R = AAᵀ − I:
 //   ∂²Ψ/∂a_i∂a_j = 4 a_j a_iᵀ + 4 δ_ij AᵀA + 4 R_ij I,
-// i.e. 2 JᵀJ + 4 (R ⊗ I₃) with J the Jacobian of AAᵀ: PSD whenever R is.
-Mat9 hessian_from(const Mat3& A, const Mat3& R) {
+// i.e. 2 JᵀJ + 4 (R ⊗ I₃) with J the Jacobian of AAᵀ: PSD whenever R is. Block (j, i) is the
+// transpose of block (i, j) to the bit (R is symmetric to the bit, products commute), so
+// each pair is built once.
+Mat9 hessian_from(const Mat3& A, const Mat3& AtA, const Mat3& R) {
   Mat9 H;
-  const Mat3 AtA = A.transpose() * A;
-  for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) {
       Mat3 block = A.row(j).transpose() * A.row(i);
       if (i == j) block += AtA;
       block.diagonal().array() += R(i, j);
       H.block<3, 3>(3 * i, 3 * j) = 4.0 * block;
+      if (j != i) H.block<3, 3>(3 * j, 3 * i) = H.block<3, 3>(3 * i, 3 * j).transpose();
     }
   return H;
 }
+
+Mat9 hessian_psd_from(const Mat3& A, const Mat3& AtA, const Mat3& R);
 
 }  // namespace
 
@@ -52,7 +56,7 @@ Vec9 ortho_potential_gradient(const Mat3& A) {
 }
 
 Mat9 ortho_potential_hessian(const Mat3& A) {
-  return hessian_from(A, A * A.transpose() - Mat3::Identity());
+  return hessian_from(A, A.transpose() * A, A * A.transpose() - Mat3::Identity());
 }
 
 // Closed-form eigen-system of ∇²Ψ. With A = U Σ Vᵀ (SVD) and δA = U X Vᵀ (an orthogonal
@@ -65,12 +69,21 @@ Mat9 ortho_potential_hessian(const Mat3& A) {
 // others 8. The projection subtracts the negative modes (there are at most a few, and
 // usually only slightly negative rotational ones) from the exact Hessian.
 Mat9 ortho_potential_hessian_psd(const Mat3& A) {
+  return hessian_psd_from(A, A.transpose() * A, A * A.transpose() - Mat3::Identity());
+}
+
+namespace {
+
+// The projection above, given AᵀA and R = AAᵀ − I (the caller has them). A mode's direction
+// is built only when its eigenvalue is negative (near rest: some of the three rotational
+// modes, the others never).
+Mat9 hessian_psd_from(const Mat3& A, const Mat3& AtA, const Mat3& R) {
   Mat3 U, V;
   Vec3 s;
   // V and Σ² from AᵀA in closed form (cheap; the simulator calls this in its inner loop),
   // U = A V Σ⁻¹; a nearly singular A takes the full SVD instead.
   Eigen::SelfAdjointEigenSolver<Mat3> eig;
-  eig.computeDirect(A.transpose() * A);
+  eig.computeDirect(AtA);
   const Vec3 s2 = eig.eigenvalues();
   if (s2[0] > 1e-6 * s2[2] && s2[0] > 0.0) {
     V = eig.eigenvectors();
@@ -82,34 +95,38 @@ Mat9 ortho_potential_hessian_psd(const Mat3& A) {
     V = svd.matrixV();
     s = svd.singularValues();
   }
-  Mat9 H = ortho_potential_hessian(A);
-  auto remove = [&](double lambda, const Mat3& E) {
-    if (lambda >= 0.0) return;
-    const Vec9 e = flatten_rows(E);
-    H.noalias() -= lambda * e * e.transpose();
-  };
-  for (int i = 0; i < 3; ++i) remove(12.0 * s[i] * s[i] - 4.0, U.col(i) * V.col(i).transpose());
+  Mat9 H = hessian_from(A, AtA, R);
+  auto remove = [&](double lambda, const Vec9& e) { H.noalias() -= lambda * e * e.transpose(); };
+  for (int i = 0; i < 3; ++i) {
+    const double lambda = 12.0 * s[i] * s[i] - 4.0;
+    if (lambda < 0.0) remove(lambda, flatten_rows(U.col(i) * V.col(i).transpose()));
+  }
   const double inv_sqrt2 = 1.0 / std::sqrt(2.0);
   for (int i = 0; i < 3; ++i)
     for (int j = i + 1; j < 3; ++j) {
+      const double base = s[i] * s[i] + s[j] * s[j] - 1.0;
+      const double plus = 4.0 * (base + s[i] * s[j]), minus = 4.0 * (base - s[i] * s[j]);
+      if (!(plus < 0.0) && !(minus < 0.0)) continue;
       const Mat3 Eij = U.col(i) * V.col(j).transpose();
       const Mat3 Eji = U.col(j) * V.col(i).transpose();
-      const double base = s[i] * s[i] + s[j] * s[j] - 1.0;
-      remove(4.0 * (base + s[i] * s[j]), inv_sqrt2 * (Eij + Eji));
-      remove(4.0 * (base - s[i] * s[j]), inv_sqrt2 * (Eij - Eji));
+      if (plus < 0.0) remove(plus, flatten_rows(inv_sqrt2 * (Eij + Eji)));
+      if (minus < 0.0) remove(minus, flatten_rows(inv_sqrt2 * (Eij - Eji)));
     }
   return H;
 }
+
+}  // namespace
 
 double ortho_potential_derivatives(const Mat3& A, bool project, double ws, Vec9* g, Mat9* H) {
   const Mat3 R = A * A.transpose() - Mat3::Identity();
   if (g) *g += ws * flatten_rows(4.0 * R * A);
   if (H) {
     // R PSD: the Hessian is PSD as it stands (see hessian_from); else clamp.
+    const Mat3 AtA = A.transpose() * A;
     if (!project || psd3(R))
-      *H += ws * hessian_from(A, R);
+      *H += ws * hessian_from(A, AtA, R);
     else
-      *H += ws * ortho_potential_hessian_psd(A);
+      *H += ws * hessian_psd_from(A, AtA, R);
   }
   return R.squaredNorm();
 }

@@ -9,11 +9,6 @@
 namespace abd {
 namespace {
 
-// Angle between two directions (robust near zero).
-double angle_between(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
-
 Vec3 world_axis(const JointFrame& f, const Vec12& qp) {
   return (affine_A(qp) * f.axis_p).normalized();
 }
@@ -82,38 +77,41 @@ void joint_velocity(const JointFrame& f, const VecX& q, const VecX& q_dot, doubl
 }
 
 ConstraintViolation joint_violation(const JointFrame& f, const VecX& q) {
-  ConstraintViolation v;
-  if (f.spec.kind == JointKind::kFree) return v;
+  WorstViolation worst;
+  add_joint_violation(f, q, worst);
+  return worst.result();
+}
+
+void add_joint_violation(const JointFrame& f, const VecX& q, WorstViolation& worst) {
+  if (f.spec.kind == JointKind::kFree) return;
   const Vec12 qp = body_q(q, f.spec.parent), qc = body_q(q, f.spec.child);
   const Mat3 Ap = affine_A(qp), Ac = affine_A(qc);
   const Vec3 gap = affine_point(qc, f.anchor_c) - affine_point(qp, f.anchor_p);
   switch (f.spec.kind) {
     case JointKind::kBall:
-      v.position = gap.norm();
+      worst.add_distance_squared(gap.squaredNorm());
       break;
     case JointKind::kRevolute: {
-      v.position = gap.norm();
+      worst.add_distance_squared(gap.squaredNorm());
       const Vec3 axis_c = affine_point(qc, f.tip_c) - affine_point(qc, f.anchor_c);
       const Vec3 axis_p = affine_point(qp, f.tip_p) - affine_point(qp, f.anchor_p);
-      v.angle = angle_between(axis_c, axis_p);
+      worst.add_angle(axis_c, axis_p);
       break;
     }
     case JointKind::kFixed:
     case JointKind::kPrismatic: {
       if (f.spec.kind == JointKind::kFixed) {
-        v.position = gap.norm();
+        worst.add_distance_squared(gap.squaredNorm());
       } else {
         const Vec3 w = world_axis(f, qp);
-        v.position = (gap - gap.dot(w) * w).norm();
+        worst.add_distance_squared((gap - gap.dot(w) * w).squaredNorm());
       }
-      for (int j = 0; j < 3; ++j)
-        v.angle = std::max(v.angle, angle_between(Ac * f.basis_c.col(j), Ap * f.basis_p.col(j)));
+      for (int j = 0; j < 3; ++j) worst.add_angle(Ac * f.basis_c.col(j), Ap * f.basis_p.col(j));
       break;
     }
     case JointKind::kFree:
       break;
   }
-  return v;
 }
 
 }  // namespace abd

@@ -10,6 +10,7 @@
 // own frame). The hinge angle here lies in (−π, π]; JointSet unwraps it from step to step.
 #pragma once
 #include "joints/joint_spec.h"
+#include "joints/worst_violation.h"
 #include "solver/constraint.h"
 
 namespace abd {
@@ -22,5 +23,7 @@ void joint_velocity(const JointFrame& f, const VecX& q, const VecX& q_dot, doubl
 // Anchor separation (prismatic: the offset across the axis), m; axis or frame misalignment,
 // rad.
 ConstraintViolation joint_violation(const JointFrame& f, const VecX& q);
+// The same, folded into the worst over a set of joints.
+void add_joint_violation(const JointFrame& f, const VecX& q, WorstViolation& worst);
 
 }  // namespace abd

@@ -62,6 +62,21 @@ void JointSet::linearize(const VecX& q, std::vector<ConstraintRow>& rows) const 
   }
 }
 
+void JointSet::linearize_with_values(const VecX& q, const ConstraintValue* known,
+                                     std::vector<ConstraintRow>& rows) const {
+  for (std::size_t j = 0; j < frames_.size(); ++j) {
+    const std::vector<ConstraintRow>& fixed_gradients = linear_rows_[j];
+    const std::size_t first = rows.size();
+    if (fixed_gradients.empty()) {
+      append_joint_rows(frames_[j], q, rows);
+    } else {
+      rows.insert(rows.end(), fixed_gradients.begin(), fixed_gradients.end());
+      for (std::size_t k = first; k < rows.size(); ++k) rows[k].value = known[k - first].value;
+    }
+    known += rows.size() - first;  // one value per row, in the rows' order
+  }
+}
+
 void JointSet::values(const VecX& q, std::vector<ConstraintValue>& out) const {
   for (const JointFrame& f : frames_) append_joint_values(f, q, out);
 }
@@ -80,13 +95,9 @@ void JointSet::mark_bodies(std::vector<unsigned char>& marked) const {
 }
 
 ConstraintViolation JointSet::violation(const VecX& q) const {
-  ConstraintViolation worst;
-  for (const JointFrame& f : frames_) {
-    const ConstraintViolation v = joint_violation(f, q);
-    worst.position = std::max(worst.position, v.position);
-    worst.angle = std::max(worst.angle, v.angle);
-  }
-  return worst;
+  WorstViolation worst;  // one square root and one atan2 for all joints
+  for (const JointFrame& f : frames_) add_joint_violation(f, q, worst);
+  return worst.result();
 }
 
 // The hinge angle nearest to the last one (no wrap at ±π, as MuJoCo's hinge qpos).

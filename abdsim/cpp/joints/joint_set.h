@@ -20,6 +20,8 @@ class JointSet : public Constraint {
   std::string name() const override { return "joints"; }
   void linearize(const VecX& q, std::vector<ConstraintRow>& rows) const override;
   void values(const VecX& q, std::vector<ConstraintValue>& out) const override;
+  void linearize_with_values(const VecX& q, const ConstraintValue* known,
+                             std::vector<ConstraintRow>& rows) const override;
   bool linear() const override { return linear_; }
   void body_links(std::vector<BodyLink>& links) const override;
   void mark_bodies(std::vector<unsigned char>& marked) const override;

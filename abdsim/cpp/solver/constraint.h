@@ -53,6 +53,13 @@ class Constraint {
     linearize(q, rows);
     for (const ConstraintRow& r : rows) out.push_back({r.body_a, r.body_b, r.value});
   }
+  // Appends the rows at q given their values there (`known`: this constraint's part of what
+  // values(q) appended, in its order): a constraint whose gradients are constant copies
+  // them and takes the values instead of computing them again. The default linearizes.
+  virtual void linearize_with_values(const VecX& q, const ConstraintValue* /*known*/,
+                                     std::vector<ConstraintRow>& rows) const {
+    linearize(q, rows);
+  }
   // True when every row is linear in q (its gradient does not depend on q).
   virtual bool linear() const { return true; }
   // Pairs of distinct bodies the constraints tie together, and bodies constrained at all

@@ -261,6 +261,8 @@ class World {
   std::vector<HessianRow> hessian_rows_;
   std::vector<ConstraintRow> newton_rows_, projection_rows_;
   std::vector<ConstraintValue> constraint_values_;  // project_constraints' check
+  std::vector<std::size_t> constraint_value_offsets_;  // where each constraint's values start
+  VecX constraint_values_x_;                          // the x_ they were computed at
   VecX projection_rows_x_;           // the x_ projection_rows_ were computed at
   bool projection_rows_valid_ = false;
   VecX rhs_;

@@ -28,12 +28,22 @@ void World::newton_constraint_rows(std::vector<ConstraintRow>& rows) {
     projection_rows_valid_ = false;
     return;
   }
+  if (constraint_values_x_.size() == x_.size() && constraint_values_x_ == x_) {
+    // The projection check's values at this x_ (the start, when it was on the constraints):
+    // the same numbers linearize() would compute.
+    rows.clear();
+    for (std::size_t c = 0; c < constraints_.size(); ++c)
+      constraints_[c]->linearize_with_values(
+          x_, constraint_values_.data() + constraint_value_offsets_[c], rows);
+    return;
+  }
   constraint_rows(x_, rows);
 }
 
 // The movable bodies under a constraint this step.
 void World::mark_jointed() {
   projection_rows_valid_ = false;  // a new step: rows of the last one are not reused
+  constraint_values_x_.resize(0);
   jointed_.assign(n_, 0);
   nonlinear_constraints_ = false;
   for (const auto& c : constraints_) {
@@ -65,7 +75,12 @@ bool World::project_constraints() {
   // The check needs the values only: the rows (gradients) are built when x_ must move.
   std::vector<ConstraintValue>& values = constraint_values_;
   values.clear();
-  for (const auto& c : constraints_) c->values(x_, values);
+  constraint_value_offsets_.clear();
+  for (const auto& c : constraints_) {
+    constraint_value_offsets_.push_back(values.size());
+    c->values(x_, values);
+  }
+  constraint_values_x_ = x_;
   double first = 0.0;
   for (const ConstraintValue& v : values)
     if (moves(v.body_a, v.body_b)) first = std::max(first, std::abs(v.value));
