@@ -18,6 +18,27 @@ Mollifier stencil_mollifier(const ContactStencil& s, const std::vector<Vec3>& x,
   return edge_edge_mollifier_derivatives(x[v[0]], x[v[1]], x[v[2]], x[v[3]], s.eps_x, order);
 }
 
+// The PSD projection of the Hessian H of a function of k vertices that moving them all by the
+// same vector leaves unchanged (a distance, the edge–edge mollifier): H t = 0 for every such
+// translation t, so H = Q (Qᵀ H Q) Qᵀ with Q an orthonormal basis of the 3(k − 1) relative
+// motions, and its projection is Q P(Qᵀ H Q) Qᵀ: the eigen-decomposition runs on a 9×9
+// matrix instead of a 12×12 one (point–triangle, edge–edge), about 40% of the work; the
+// eigen-decompositions were 15% of a heap of 100 boxes' step. Q's columns are the Helmert
+// contrasts (vertices 0..j against vertex j + 1), one per axis.
+StencilMat project_psd_translation_free(const StencilMat& H, int k) {
+  if (k < 2) return project_psd(H);
+  StencilMat Q = StencilMat::Zero(3 * k, 3 * (k - 1));
+  for (int j = 0; j + 1 < k; ++j) {
+    const double w = 1.0 / std::sqrt(double((j + 1) * (j + 2)));
+    for (int i = 0; i <= j + 1; ++i) {
+      const double c = i <= j ? w : -(j + 1) * w;
+      Q.block<3, 3>(3 * i, 3 * j) = c * Mat3::Identity();
+    }
+  }
+  const StencilMat reduced = Q.transpose() * H * Q;
+  return Q * project_psd(reduced) * Q.transpose();
+}
+
 // PSD projection restricted to the vertices the Hessian involves. Degenerate pieces
 // (point–point, point–edge) leave whole vertex blocks zero; projecting the non-zero principal
 // block alone gives the same result (a zero block stays zero) for a fraction of the cost of a
@@ -27,12 +48,12 @@ StencilMat project_psd_on_support(const StencilMat& H, int nv) {
   int n_used = 0;
   for (int i = 0; i < nv; ++i)
     if (!H.middleRows(3 * i, 3).isZero(0.0)) used[n_used++] = i;
-  if (n_used == nv) return project_psd(H);
+  if (n_used == nv) return project_psd_translation_free(H, nv);
   StencilMat sub(3 * n_used, 3 * n_used);
   for (int a = 0; a < n_used; ++a)
     for (int b = 0; b < n_used; ++b)
       sub.block<3, 3>(3 * a, 3 * b) = H.block<3, 3>(3 * used[a], 3 * used[b]);
-  sub = project_psd(sub);
+  sub = project_psd_translation_free(sub, n_used);
   StencilMat out = StencilMat::Zero(3 * nv, 3 * nv);
   for (int a = 0; a < n_used; ++a)
     for (int b = 0; b < n_used; ++b)
