@@ -22,7 +22,13 @@ motion crosses contact, or Newton failed) and redone in substeps spends the rest
 in the rejected attempts, so the profile also gives the steps redone in substeps and their
 share of the wall time, and the time outside the timers.
 
+--seeds draws other heaps (the layers' rotations), a row each: the heap is chaotic, so a
+round-off-level change of the solver moves its Newton iteration count by tens of percent
+(100 boxes, 300 steps: 8,433, 9,135 and 10,711 iterations for three round-off variants of
+one build); compare builds over several seeds, or by CPU time per Newton iteration.
+
 Usage: python benchmarks/contact_heap.py [--quick] [--sizes 27 100 500] [--no-bin] [--profile]
+       [--seeds 0 1 2]
 """
 
 from __future__ import annotations
@@ -108,14 +114,14 @@ def _instances(sc, centres: np.ndarray, R: np.ndarray) -> None:
     sc.transforms = T
 
 
-def abdsim_world(scene_kind: str, n: int) -> abdsim.World:
-    """The heap of n boxes, or the bin of n annuli."""
+def abdsim_world(scene_kind: str, n: int, seed: int = 0) -> abdsim.World:
+    """The heap of n boxes (its layers' rotations drawn with `seed`), or the bin of n annuli."""
     scene = abdsim.Scene(dt=DT, friction=MU, history_limit=0)
     scene.add_ground(0.0)
     constitution = abdsim.AffineBodyConstitution("OrthoPotential")
     if scene_kind == "heap":
         sc = abdsim.geometry.box(tuple(EXTENTS))
-        _instances(sc, *heap_poses(n))
+        _instances(sc, *heap_poses(n, seed))
         constitution.apply_to(sc, kappa=1e8, mass_density=DENSITY)
         scene.add(sc)
     else:
@@ -152,11 +158,11 @@ def _annulus_pieces(pieces: int = 12) -> str:
     return "".join(geoms)
 
 
-def mujoco_model(scene_kind: str, n: int):
+def mujoco_model(scene_kind: str, n: int, seed: int = 0):
     bodies = []
     if scene_kind == "heap":
         half = " ".join(str(e / 2) for e in EXTENTS)
-        for c, R in zip(*heap_poses(n), strict=True):
+        for c, R in zip(*heap_poses(n, seed), strict=True):
             bodies.append(
                 f'<body pos="{c[0]} {c[1]} {c[2]}" quat="{_quat(R)}"><freejoint/>'
                 f'<geom type="box" size="{half}" density="{DENSITY}"/></body>'
@@ -194,20 +200,21 @@ TIMERS = (
 COUNTS = ("ccd_cuts", "armijo_halvings", "symbolic_analyses")
 
 
-def run_abdsim(scene_kind: str, n: int, steps: int) -> dict:
-    world = abdsim_world(scene_kind, n)
-    iterations, gap, wall, failure = [], np.inf, 0.0, ""
+def run_abdsim(scene_kind: str, n: int, steps: int, seed: int = 0) -> dict:
+    world = abdsim_world(scene_kind, n, seed)
+    iterations, gap, wall, cpu, failure = [], np.inf, 0.0, 0.0, ""
     profile = dict.fromkeys([key for key, _ in TIMERS] + list(COUNTS), 0.0)
     profile.update(step=0.0, searches=0, substep_steps=0, substep_time=0.0)
     reasons: dict[str, int] = {}  # why whole steps were split, by kind
     for k in range(steps):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         try:
             d = world.step()
         except abdsim.SolverError as e:
             failure = f"failed at step {k}: {str(e)[:90]}"
             break
         wall += time.perf_counter() - t0
+        cpu += time.process_time() - c0
         iterations.append(d.newton_iterations)
         gap = min(gap, d.min_contact_distance)
         profile["step"] += d.wall_time
@@ -223,6 +230,7 @@ def run_abdsim(scene_kind: str, n: int, steps: int) -> dict:
     iterations = iterations or [0]
     return {
         "rate": steps_done / max(wall, 1e-12),
+        "cpu_rate": steps_done / max(cpu, 1e-12),
         "steps": steps_done,
         "failure": failure,
         "newton_median": float(np.median(iterations)),
@@ -246,16 +254,17 @@ def substep_kind(reason: str) -> str:
     return "other"
 
 
-def run_mujoco(scene_kind: str, n: int, steps: int) -> dict:
-    model, data = mujoco_model(scene_kind, n)
-    penetration, wall = 0.0, 0.0
+def run_mujoco(scene_kind: str, n: int, steps: int, seed: int = 0) -> dict:
+    model, data = mujoco_model(scene_kind, n, seed)
+    penetration, wall, cpu = 0.0, 0.0, 0.0
     for _ in range(steps):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         mujoco.mj_step(model, data)
         wall += time.perf_counter() - t0
+        cpu += time.process_time() - c0
         if data.ncon:
             penetration = max(penetration, float(-data.contact.dist[: data.ncon].min()))
-    return {"rate": steps / wall, "penetration": penetration}
+    return {"rate": steps / wall, "cpu_rate": steps / max(cpu, 1e-12), "penetration": penetration}
 
 
 def print_profile(a: dict, steps: int) -> None:
@@ -315,28 +324,34 @@ def main() -> None:
     parser.add_argument("--no-bin", action="store_true", help="skip the bin of meshes")
     parser.add_argument("--bin-size", type=int, default=30)
     parser.add_argument("--profile", action="store_true", help="where abdsim's time goes")
+    parser.add_argument(
+        "--seeds", type=int, nargs="+", default=[0], help="heaps' rotation seeds (a row each)"
+    )
     args = parser.parse_args()
     steps = args.steps or (60 if args.quick else 300)
-    cases = [("heap", n) for n in args.sizes]
+    cases = [("heap", n, seed) for n in args.sizes for seed in args.seeds]
     if not args.no_bin:
-        cases.append(("bin", args.bin_size))
+        cases.append(("bin", args.bin_size, 0))
     print(
         f"{steps} steps of h = {DT} s, μ = {MU}, {os.cpu_count()} CPU(s); "
         f"MuJoCo {mujoco.__version__} (implicitfast)"
     )
     header = (
-        f"{'scene':>9} | {'abdsim steps/s':>14} {'Newton med':>10} {'(max)':>5} "
-        f"{'min gap (m)':>11} | {'MuJoCo steps/s':>14} {'max pen. (m)':>12} | {'speed':>7}"
+        f"{'scene':>12} | {'abdsim steps/s':>14} {'Newton med':>10} {'(max)':>5} {'(mean)':>6} "
+        f"{'min gap (m)':>11} | {'MuJoCo steps/s':>14} {'max pen. (m)':>12} | {'speed':>7} "
+        f"{'CPU speed':>9}"
     )
     print(header)
     print("-" * len(header))
-    for kind, n in cases:
-        a = run_abdsim(kind, n, steps)
-        m = run_mujoco(kind, n, steps)
+    for kind, n, seed in cases:
+        a = run_abdsim(kind, n, steps, seed)
+        m = run_mujoco(kind, n, steps, seed)
+        label = f"{kind} {n}" + (f" s{seed}" if seed else "")
         print(
-            f"{kind + ' ' + str(n):>9} | {a['rate']:>14.2f} {a['newton_median']:>10.1f} "
-            f"{a['newton_max']:>5d} {a['min_gap']:>11.2e} | {m['rate']:>14.1f} "
-            f"{m['penetration']:>12.2e} | {a['rate'] / m['rate']:>7.4f}",
+            f"{label:>12} | {a['rate']:>14.2f} {a['newton_median']:>10.1f} "
+            f"{a['newton_max']:>5d} {a['iterations'] / a['steps']:>6.1f} {a['min_gap']:>11.2e} | "
+            f"{m['rate']:>14.1f} {m['penetration']:>12.2e} | {a['rate'] / m['rate']:>7.4f} "
+            f"{a['cpu_rate'] / m['cpu_rate']:>9.4f}",
             flush=True,
         )
         if a["failure"]:
@@ -344,8 +359,9 @@ def main() -> None:
         if args.profile:
             print_profile(a, a["steps"])
     print(
-        "speed: abdsim runs at N× MuJoCo's speed (> 1 is faster); Newton med/max: Newton "
-        "iterations per step; min gap: abdsim's smallest contact gap over every step "
+        "speed: abdsim runs at N× MuJoCo's speed (> 1 is faster), by wall clock and by the CPU "
+        "time of each engine's step calls (steadier on a loaded machine); Newton med/max/mean: "
+        "Newton iterations per step; min gap: abdsim's smallest contact gap over every step "
         "(> 0: no intersection); max pen.: MuJoCo's largest penetration"
     )
 
