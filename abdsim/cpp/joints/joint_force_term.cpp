@@ -70,6 +70,12 @@ JointForceTerm::JointForceTerm(std::shared_ptr<const JointSet> joints, const Sce
     elements_.push_back(e);
   }
   cache_.resize(elements_.size());
+  // Each element's actuators, in actuator order (energy() visits them per element, every
+  // evaluation: a scan of all actuators per element was quadratic in the joints).
+  actuators_of_.assign(elements_.size(), {});
+  for (std::size_t a = 0; a < actuators_.size(); ++a)
+    actuators_of_[static_cast<std::size_t>(element_of_joint_[actuators_[a].joint])].push_back(
+        static_cast<int>(a));
   ctrl_ = VecX::Zero(static_cast<Eigen::Index>(actuators_.size()));
   tau_ = VecX::Zero(nj);
   act_F0_.assign(actuators_.size(), 0.0);
@@ -201,9 +207,8 @@ bool JointForceTerm::energy(const Element& e, double theta, double& E, double& d
     s.d2 += barrier.d2;
     if (limit_d1) *limit_d1 = barrier.d1;
   }
-  for (std::size_t a = 0; a < actuators_.size(); ++a) {
+  for (const int a : actuators_of_[static_cast<std::size_t>(&e - elements_.data())]) {
     const ActuatorSpec& spec = actuators_[a];
-    if (spec.joint != e.joint) continue;
     const double inf = std::numeric_limits<double>::infinity();
     add_clamped_actuator(s, theta, spec.gear, act_F0_[a], act_F1_[a],
                          spec.force_limited ? spec.force_lower : -inf,

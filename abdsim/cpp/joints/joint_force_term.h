@@ -135,6 +135,7 @@ class JointForceTerm : public EnergyTerm {
   std::vector<ActuatorSpec> actuators_;
   std::vector<Element> elements_;
   std::vector<int> element_of_joint_;      // −1: nothing acts on the joint
+  std::vector<std::vector<int>> actuators_of_;  // per element: its actuators, ascending
   std::vector<double> act_F0_, act_F1_;    // per actuator, this step: force = F0 + F1 θ
   VecX ctrl_, tau_;
   double c_ = 0.0;

@@ -110,6 +110,7 @@ double JointSet::unwrapped_angle(int j, const VecX& q) const {
 void JointSet::end_step(const VecX& q, const VecX& /*q_dot*/) {
   for (int j = 0; j < size(); ++j)
     if (frames_[j].spec.kind == JointKind::kRevolute) last_angle_[j] = unwrapped_angle(j, q);
+  last_q_ = q;
 }
 
 void JointSet::reset(const VecX& q) {
@@ -119,9 +120,11 @@ void JointSet::reset(const VecX& q) {
 
 VecX JointSet::positions(const VecX& q) const {
   VecX out = VecX::Zero(nq_);
+  // At the last end_step's state, unwrapping the angle again gives last_angle_ itself.
+  const bool at_last = last_q_.size() == q.size() && last_q_ == q;
   for (int j = 0; j < size(); ++j) {
     if (frames_[j].spec.kind == JointKind::kRevolute)  // (joint_position's angle, unwrapped)
-      out[q_offset_[j]] = unwrapped_angle(j, q);
+      out[q_offset_[j]] = at_last ? last_angle_[j] : unwrapped_angle(j, q);
     else
       joint_position(frames_[j], q, out.data() + q_offset_[j]);
   }

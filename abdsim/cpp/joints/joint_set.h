@@ -50,6 +50,9 @@ class JointSet : public Constraint {
   std::vector<std::vector<ConstraintRow>> linear_rows_;
   std::vector<int> q_offset_, v_offset_;
   std::vector<double> last_angle_;  // unwrapped hinge angle at the last end_step
+  // The state of the last end_step: positions() there are last_angle_ to the bit (the next
+  // step begins there and reads them again).
+  VecX last_q_;
   int nq_ = 0, nv_ = 0;
   bool linear_ = true;
 };

@@ -40,6 +40,7 @@ World::World(const SceneData& scene, const SolverSettings& settings)
   q_.resize(12 * n_);
   q_dot_.resize(12 * n_);
   dyadic_.resize(n_);
+  mass_matrix_.resize(n_);
   fixed_.resize(n_);
   dynamic_.resize(n_);
   external_kinetic_.resize(n_);
@@ -71,6 +72,7 @@ World::World(const SceneData& scene, const SolverSettings& settings)
                           ", " + std::to_string(ev[2]) +
                           "); a flat or degenerate body needs a thickness");
     dyadic_[b] = dm;
+    mass_matrix_[b] = dm.matrix();
     q_.segment<12>(12 * b) = body.q;
     q_dot_.segment<12>(12 * b) = body.is_fixed ? Vec12::Zero() : body.q_dot;
     fixed_[b] = body.is_fixed;
@@ -176,8 +178,9 @@ void World::release_kinematic(int body) {
 // removes F's departure from a rotation to second order while keeping A_t's own deformation;
 // p is shifted so that the centre of mass stays where q̃ puts it. Only applied to modest
 // increments (|FᵀF − I| < 0.1), where the iteration contracts. Only the start point
-// changes: Newton still minimises Π.
-void World::predict_body(int b, double c, bool bdf2) {
+// changes: Newton still minimises Π. The coupled solve orthogonalises in start_iterate,
+// only the predictions a body may start from (orthogonalise false here).
+void World::predict_body(int b, double c, bool bdf2, bool orthogonalise) {
   const Vec3 g_step = c * c * scene_.gravity;
   const auto qt = q_.segment<12>(12 * b);
   auto q_hat = q_hat_.segment<12>(12 * b);
@@ -202,29 +205,26 @@ void World::predict_body(int b, double c, bool bdf2) {
     q_tilde = qt;
     q_tilde.head<3>() += g_step;
   }
-  Vec12 pred = q_tilde;
-  // A jointed body with a warm guess starts from that guess (start_iterate), not from this
-  // prediction: it skips the orthogonalisation.
-  // Only jointed bodies (last step's marks; joints do not come and go): other bodies start
-  // from their warm guess only when their island's move there is clear, and the free path
-  // keeps this prediction, which must stay orthogonalised.
-  const bool warm = warm_valid_.size() == static_cast<std::size_t>(n_) && warm_valid_[b] &&
-                    jointed_.size() == static_cast<std::size_t>(n_) && jointed_[b];
-  if (!constrained_[b] && !warm) {
-    const Mat3 A = affine_A(pred);
-    Mat3 At_inv;
-    double det = 0.0;
-    bool invertible = false;
-    affine_A(qt).computeInverseAndDetWithCheck(At_inv, det, invertible, 1e-12);
-    const Mat3 F = A * At_inv;
-    const Mat3 FtF = F.transpose() * F;
-    if (invertible && (FtF - Mat3::Identity()).cwiseAbs().maxCoeff() < 0.1) {
-      const Mat3 A_orth = 0.5 * F * (3.0 * Mat3::Identity() - FtF) * affine_A(qt);
-      const Vec3 center = dyadic_[b].m_x_bar / dyadic_[b].m;
-      pred = q_from(A_orth, affine_p(pred) - (A_orth - A) * center);
-    }
+  x_pred_.segment<12>(12 * b) = q_tilde;
+  if (orthogonalise && !constrained_[b]) orthogonalise_prediction(b);
+}
+
+// x_pred_ of body b from q̃ to q̃ with its increment of A orthogonalised (predict_body).
+void World::orthogonalise_prediction(int b) {
+  const Vec12 pred = x_pred_.segment<12>(12 * b);
+  const auto qt = q_.segment<12>(12 * b);
+  const Mat3 A = affine_A(pred);
+  Mat3 At_inv;
+  double det = 0.0;
+  bool invertible = false;
+  affine_A(qt).computeInverseAndDetWithCheck(At_inv, det, invertible, 1e-12);
+  const Mat3 F = A * At_inv;
+  const Mat3 FtF = F.transpose() * F;
+  if (invertible && (FtF - Mat3::Identity()).cwiseAbs().maxCoeff() < 0.1) {
+    const Mat3 A_orth = 0.5 * F * (3.0 * Mat3::Identity() - FtF) * affine_A(qt);
+    const Vec3 center = dyadic_[b].m_x_bar / dyadic_[b].m;
+    x_pred_.segment<12>(12 * b) = q_from(A_orth, affine_p(pred) - (A_orth - A) * center);
   }
-  x_pred_.segment<12>(12 * b) = pred;
 }
 
 // Velocity at the end of the step, from x_ (BDF1: (x − q_t)/h; BDF2: (x − q̂)/c).
@@ -290,7 +290,7 @@ void World::solve_step(StepDiagnostics& d) {
     step_per_body(c, bdf2, d);  // predictions, Newton and velocities in one parallel loop
     warm_valid_.clear();        // no solve_coupled to remember its forces
   } else {
-    parallel_for(n_, threads_, [&](int b) { predict_body(b, c, bdf2); });
+    parallel_for(n_, threads_, [&](int b) { predict_body(b, c, bdf2, false); });
     const double broad_phase_before = contact_ ? contact_->broad_phase_seconds() : 0.0;
     solve_coupled(c2, d);
     if (contact_) d.time_broad_phase = contact_->broad_phase_seconds() - broad_phase_before;
@@ -344,7 +344,7 @@ void World::newton_body(int b, double c2, Vec12& x, BodyNewton& r,
     Mat12 H;
     if (kinetic) {
       g = mass_times(dm, x - qt);
-      H = dm.matrix();
+      H = mass_matrix_[b];
     } else {
       g.setZero();
       H.setZero();
@@ -414,7 +414,7 @@ void World::step_per_body(double c, bool bdf2, StepDiagnostics& d) {
   std::vector<std::vector<double>> alphas(threads_, std::vector<double>(max_it, 2.0));
 
   parallel_for_slot(n_, threads_, [&](int b, int slot) {
-    predict_body(b, c, bdf2);
+    predict_body(b, c, bdf2, true);
     BodyNewton& r = result[b];
     if (constrained_[b]) {
       r.status = kConverged;

@@ -96,7 +96,7 @@ class World {
   const SolverSettings& settings() const { return settings_; }
   const VecX& q() const { return q_; }
   const VecX& q_dot() const { return q_dot_; }
-  Mat12 mass_matrix(int body) const { return dyadic_.at(check_body(body)).matrix(); }
+  Mat12 mass_matrix(int body) const { return mass_matrix_.at(check_body(body)); }
   const StepDiagnostics& diagnostics() const { return diag_; }
   // Diagnostics of the last `history_limit` steps, oldest first (0 keeps none).
   const std::deque<StepDiagnostics>& history() const { return history_; }
@@ -118,7 +118,8 @@ class World {
  private:
   int check_body(int body) const;
   std::string describe(int body) const;  // "body b (geometry g)" for messages
-  void predict_body(int b, double c, bool bdf2);
+  void predict_body(int b, double c, bool bdf2, bool orthogonalise);
+  void orthogonalise_prediction(int b);
   void finish_body(int b, double c);
   void step_per_body(double c, bool bdf2, StepDiagnostics& d);
   // world_restitution.cpp: the restitution law after a committed step (velocities only).
@@ -212,6 +213,7 @@ class World {
   int n_ = 0;
   int threads_ = 1;
   std::vector<DyadicMass> dyadic_;
+  std::vector<Mat12> mass_matrix_;  // dyadic_[b].matrix(), built once (a constant per body)
   ShapeEnergyTerm shape_;
   std::vector<std::shared_ptr<EnergyTerm>> terms_;
   std::shared_ptr<IpcContactTerm> contact_;

@@ -100,7 +100,7 @@ bool World::project_constraints() {
   for (int k = 0; k < kMaxProjections && worst() > kProjectionTolerance; ++k) {
     system_.reset(n_, fixed);
     for (int b = 0; b < n_; ++b)
-      system_.diagonal(b) = fixed[b] ? Mat12::Zero() : dyadic_[b].matrix();
+      system_.diagonal(b) = fixed[b] ? Mat12::Zero() : mass_matrix_[b];
     system_.finalize();
     kkt_projection_.solve(system_, rows, zero, dx);
     x_ += dx;

@@ -220,7 +220,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       Vec12 g;
       body_energy(b, x_.segment<12>(12 * b), c2, &g, &H);
       const double nu = damping_[root[b]];
-      if (nu > 0.0) H += nu * dyadic_[b].matrix();
+      if (nu > 0.0) H += nu * mass_matrix_[b];
       grad_.segment<12>(12 * b) = g;
     });
     if (it == 0) {

@@ -19,28 +19,33 @@ using namespace world_detail;
 double World::body_energy(int b, const Vec12& x, double c2, Vec12* g, Mat12* H) const {
   const DyadicMass& dm = dyadic_[b];
   const Vec12 r = x - q_tilde_.segment<12>(12 * b);
+  const bool kinetic = driven_[b] || !external_kinetic_[b];
   double e = 0.0;
-  Vec12 gb = Vec12::Zero();
-  Mat12 Hb = Mat12::Zero();
-  if (driven_[b] || !external_kinetic_[b]) {
-    const Vec12 Mr = mass_times(dm, r);
-    e = 0.5 * r.dot(Mr);
-    if (g) gb = Mr;
-    if (H) Hb = dm.matrix();
-  }
-  if (g || H) {
-    e += c2 * shape_.add_body_derivatives(b, x, c2, gb, Hb);
-  } else {
+  if (!g && !H) {
+    if (kinetic) e = mass_quadratic(dm, r);
     e += c2 * shape_.body_value(b, x);
+    return driven_[b] ? settings_.kinematic_drive_stiffness * e : e;
   }
+  // Built in the caller's g and H (the shape energy adds to them).
+  Vec12 g_scratch;
+  Mat12 H_scratch;
+  Vec12& gb = g ? *g : g_scratch;
+  Mat12& Hb = H ? *H : H_scratch;
+  if (kinetic) {
+    gb = mass_times(dm, r);
+    e = 0.5 * r.dot(gb);
+    Hb = mass_matrix_[b];
+  } else {
+    gb.setZero();
+    Hb.setZero();
+  }
+  e += c2 * shape_.add_body_derivatives(b, x, c2, gb, Hb);
   if (driven_[b]) {
     const double s = settings_.kinematic_drive_stiffness;
     e *= s;
     gb *= s;
     Hb *= s;
   }
-  if (g) *g = gb;
-  if (H) *H = Hb;
   return e;
 }
 

@@ -78,6 +78,14 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   // are. A resting heap of 100 boxes starts within ~2 tolerances of its solution this way
   // (~100 from where it is): 1-4 Newton iterations a step instead of 6-10.
   mark_jointed();
+  // The predictions bodies may start from (or solve alone from) are orthogonalised
+  // (predict_body): all but those of jointed bodies with a warm guess, which start there.
+  const bool any_warm_guess = warm_valid_.size() == static_cast<std::size_t>(n_);
+  parallel_for(n_, threads_, [&](int b) {
+    if (fixed_[b] || kinematic_[b] || (any_warm_guess && warm_valid_[b] && jointed_[b])) return;
+    orthogonalise_prediction(b);
+    x_free_.segment<12>(12 * b) = x_pred_.segment<12>(12 * b);
+  });
   std::vector<unsigned char> warm(n_, 0);
   for (int b = 0; b < n_; ++b) {
     if (!movable_[b] || driven_[b]) continue;
@@ -101,8 +109,12 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   std::vector<unsigned char> near;
   std::vector<BodyLink> links;
   const double global = step_bounds(x_, dq_, movable_, near, links);
-  // The checks so far (the last check of a move is skipped when one of them was that move).
-  std::vector<CheckedMove> checked{{x_, dq_, bound_, global}};
+  // The checks so far (the last check of a move is skipped when one of them was that move;
+  // kept only where that last check can run: some term has a reach).
+  double reach = 0.0;
+  for (const auto& t : terms_) reach = std::max(reach, t->reach());
+  std::vector<CheckedMove> checked;
+  if (reach > 0.0) checked.push_back({x_, dq_, bound_, global});
   for (const BodyLink& l : links) merge_islands(l.a, l.b);
   join_constrained_islands(near);
   std::vector<unsigned char> warm_island(n_, 1);  // per island root: start at the warm guess
@@ -113,8 +125,6 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
     if (movable_[b] && (near[b] || bound_[b] < 1.0 || global < 1.0)) stays[island(b)] = 1;
 
   // Free solutions of the bodies of islands that nothing comes near.
-  double reach = 0.0;
-  for (const auto& t : terms_) reach = std::max(reach, t->reach());
   const double slack = 0.25 * reach;
   free_iterations_.assign(n_, 0);
   std::vector<unsigned char> solved(n_, 0), strayed(n_, 0);
@@ -151,7 +161,7 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
     std::vector<unsigned char> near2;
     std::vector<BodyLink> links2;
     const double global2 = step_bounds(x_, dq_, movable_, near2, links2);
-    checked.push_back({x_, dq_, bound_, global2});
+    if (reach > 0.0) checked.push_back({x_, dq_, bound_, global2});
     for (int b = 0; b < n_; ++b) {
       if (solved[b] && (near2[b] || bound_[b] < 1.0)) solved[b] = 0;
       if (warm[b] && (bound_[b] < 1.0 || global2 < 1.0)) warm_island[island(b)] = 0;
