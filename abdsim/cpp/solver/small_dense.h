@@ -53,9 +53,12 @@ void axpy_below(Y&& y, double f, const X& x, int first) {
 // 12x12 factorisation); the column's scaling by 1/√d = √d / d is off that path. t and W take
 // the same unscaled column (the unit-lower factor is a_ij / d_j, L = (that) diag(√d)), so
 // their chains run beside the pivots' instead of after them.
+//
+// keep_L = false: A is left with L's diagonal only (its columns unscaled, the upper triangle
+// not zeroed), for a caller that solves with At and inv_diagonal alone.
 template <int R, int RW>
 bool cholesky_forward(Mat12& A, Mat12& At, Vec12& inv_diagonal, Vec12& t, Mat12& W,
-                      int n = 12) {
+                      int n = 12, bool keep_L = true) {
   inv_diagonal.setOnes();
   Vec12 s = t;  // the unit-lower solve in progress (its rows < j are no longer read)
   for (int j = 0; j < n; ++j) {
@@ -78,11 +81,12 @@ bool cholesky_forward(Mat12& A, Mat12& At, Vec12& inv_diagonal, Vec12& t, Mat12&
     for (int k = j + 1; k < n; ++k)
       W.col(k).template head<RW>() -= At(j, k) * W.col(j).template head<RW>();
     W.col(j).template head<RW>() *= inv;
-    A.col(j).template head<R>() *= inv;
+    if (keep_L) A.col(j).template head<R>() *= inv;
     A(j, j) = l;
   }
-  for (int j = 1; j < n; ++j)
-    for (int i = 0; i < j; ++i) A(i, j) = 0.0;
+  if (keep_L)
+    for (int j = 1; j < n; ++j)
+      for (int i = 0; i < j; ++i) A(i, j) = 0.0;
   return true;
 }
 
