@@ -11,6 +11,7 @@
 // chain of dependent additions.
 #pragma once
 #include <cmath>
+#include <type_traits>
 
 #include "common/types.h"
 
@@ -121,15 +122,22 @@ inline void subtract_gram(const Mat12& V, Mat12& A) {
     for (int i = j; i < 12; ++i) A(i, j) -= V.col(i).dot(V.col(j));
 }
 
-// A += X Xᵀ over X's leading n columns, on whole columns (the lower triangle is what the
-// factorisation reads). Column by column with the sum in registers: one load and one store
-// of A's column instead of one per rank-one term.
+// The lower triangle of A += X Xᵀ over X's leading n columns (what the factorisation reads;
+// above the diagonal A takes part of the sum or none). Column by column with the sum in
+// registers: one load and one store of A's column instead of one per rank-one term, on the
+// rows from the diagonal down in whole packets (axpy_below's 12, 8 from row 4, last 4).
 inline void add_gram(Mat12& A, const Mat12& X, int n) {
-  for (int j = 0; j < 12; ++j) {
-    Vec12 column = A.col(j);
-    for (int k = 0; k < n; ++k) column += X(j, k) * X.col(k);
-    A.col(j) = column;
-  }
+  auto columns = [&](auto first, int from, int to) {
+    constexpr int kRows = 12 - decltype(first)::value;
+    for (int j = from; j < to; ++j) {
+      Eigen::Matrix<double, kRows, 1> column = A.col(j).template tail<kRows>();
+      for (int k = 0; k < n; ++k) column += X(j, k) * X.col(k).template tail<kRows>();
+      A.col(j).template tail<kRows>() = column;
+    }
+  };
+  columns(std::integral_constant<int, 0>(), 0, 4);
+  columns(std::integral_constant<int, 4>(), 4, 8);
+  columns(std::integral_constant<int, 8>(), 8, 12);
 }
 
 }  // namespace abd::dense
