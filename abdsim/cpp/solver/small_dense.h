@@ -11,6 +11,7 @@
 // chain of dependent additions.
 #pragma once
 #include <cmath>
+#include <type_traits>
 
 #include "common/types.h"
 
@@ -53,9 +54,12 @@ void axpy_below(Y&& y, double f, const X& x, int first) {
 // 12x12 factorisation); the column's scaling by 1/√d = √d / d is off that path. t and W take
 // the same unscaled column (the unit-lower factor is a_ij / d_j, L = (that) diag(√d)), so
 // their chains run beside the pivots' instead of after them.
+//
+// keep_L = false: A is left with L's diagonal only (its columns unscaled, the upper triangle
+// not zeroed), for a caller that solves with At and inv_diagonal alone.
 template <int R, int RW>
 bool cholesky_forward(Mat12& A, Mat12& At, Vec12& inv_diagonal, Vec12& t, Mat12& W,
-                      int n = 12) {
+                      int n = 12, bool keep_L = true) {
   inv_diagonal.setOnes();
   Vec12 s = t;  // the unit-lower solve in progress (its rows < j are no longer read)
   for (int j = 0; j < n; ++j) {
@@ -78,11 +82,12 @@ bool cholesky_forward(Mat12& A, Mat12& At, Vec12& inv_diagonal, Vec12& t, Mat12&
     for (int k = j + 1; k < n; ++k)
       W.col(k).template head<RW>() -= At(j, k) * W.col(j).template head<RW>();
     W.col(j).template head<RW>() *= inv;
-    A.col(j).template head<R>() *= inv;
+    if (keep_L) A.col(j).template head<R>() *= inv;
     A(j, j) = l;
   }
-  for (int j = 1; j < n; ++j)
-    for (int i = 0; i < j; ++i) A(i, j) = 0.0;
+  if (keep_L)
+    for (int j = 1; j < n; ++j)
+      for (int i = 0; i < j; ++i) A(i, j) = 0.0;
   return true;
 }
 
@@ -117,15 +122,22 @@ inline void subtract_gram(const Mat12& V, Mat12& A) {
     for (int i = j; i < 12; ++i) A(i, j) -= V.col(i).dot(V.col(j));
 }
 
-// A += X Xᵀ over X's leading n columns, on whole columns (the lower triangle is what the
-// factorisation reads). Column by column with the sum in registers: one load and one store
-// of A's column instead of one per rank-one term.
+// The lower triangle of A += X Xᵀ over X's leading n columns (what the factorisation reads;
+// above the diagonal A takes part of the sum or none). Column by column with the sum in
+// registers: one load and one store of A's column instead of one per rank-one term, on the
+// rows from the diagonal down in whole packets (axpy_below's 12, 8 from row 4, last 4).
 inline void add_gram(Mat12& A, const Mat12& X, int n) {
-  for (int j = 0; j < 12; ++j) {
-    Vec12 column = A.col(j);
-    for (int k = 0; k < n; ++k) column += X(j, k) * X.col(k);
-    A.col(j) = column;
-  }
+  auto columns = [&](auto first, int from, int to) {
+    constexpr int kRows = 12 - decltype(first)::value;
+    for (int j = from; j < to; ++j) {
+      Eigen::Matrix<double, kRows, 1> column = A.col(j).template tail<kRows>();
+      for (int k = 0; k < n; ++k) column += X(j, k) * X.col(k).template tail<kRows>();
+      A.col(j).template tail<kRows>() = column;
+    }
+  };
+  columns(std::integral_constant<int, 0>(), 0, 4);
+  columns(std::integral_constant<int, 4>(), 4, 8);
+  columns(std::integral_constant<int, 8>(), 8, 12);
 }
 
 }  // namespace abd::dense

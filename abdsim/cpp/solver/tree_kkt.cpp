@@ -154,7 +154,9 @@ bool TreeKkt::build_forest(const BlockSystem& system, const std::vector<Constrai
 template <int R>
 bool TreeKkt::factor_rows(Node& node, Vec12& t, Vec12& lambda) {
   const int m = node.m;
-  if (!dense::cholesky_forward<12, R>(node.L, node.Lt, node.L_inv_diagonal, t, node.W))
+  // L itself is needed for V alone; L_S only through L_Sᵀ and its diagonal (the pivots).
+  if (!dense::cholesky_forward<12, R>(node.L, node.Lt, node.L_inv_diagonal, t, node.W, 12,
+                                      node.coupling != nullptr))
     return false;
   Mat12& Qt = node.Qt;  // −J_Pᵀ from gather (zero on a root, whose Q is not used)
   if (node.parent >= 0 && node.coupling) {
@@ -175,8 +177,8 @@ bool TreeKkt::factor_rows(Node& node, Vec12& t, Vec12& lambda) {
   lambda = node.c;
   lambda.noalias() += node.W.lazyProduct(t);
   // Rows past m are padding (S = I there): only the leading m x m block is factorised.
-  return dense::cholesky_forward<R, 12>(node.LS, node.LSt, node.LS_inv_diagonal, lambda, Qt,
-                                        m);
+  return dense::cholesky_forward<R, 12>(node.LS, node.LSt, node.LS_inv_diagonal, lambda, Qt, m,
+                                        false);
 }
 
 bool TreeKkt::factor_node(int b) {

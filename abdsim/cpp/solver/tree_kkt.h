@@ -52,7 +52,8 @@ class TreeKkt {
     int parent = -1;                  // body index, −1 for a root
     const Mat12* coupling = nullptr;  // H_bP (rows b, columns P), null when zero
     Mat12 own_coupling;               // where coupling points when soft rows were folded in
-    Mat12 L;                          // H_bb (updated by the children), then its Cholesky factor
+    Mat12 L;                          // H_bb (updated by the children), then its Cholesky
+                                      // factor (its diagonal only without a coupling)
     Mat12 Lt;                         // Lᵀ's unit upper factor (dense::cholesky_forward)
     Vec12 r;                          // rhs_b, updated by the children
     Vec12 L_inv_diagonal;             // 1 / diag(L)
@@ -64,7 +65,7 @@ class TreeKkt {
     // column of Qt; the factorisations write only above the diagonal of Lt and LSt).
     bool zeroed = false;
     Vec12 c, D;                       // the rows' values and compliances
-    Mat12 LS;                         // Cholesky factor of S = W Wᵀ + D
+    Mat12 LS;                         // S = W Wᵀ + D, then its Cholesky factor's diagonal
     Mat12 LSt;                        // L_Sᵀ's unit upper factor
     Vec12 LS_inv_diagonal;
     Vec12 t, lambda;                  // F⁻¹ z_b (K_b = F diag(I, −I) Fᵀ): t = L⁻¹ r_b,
