@@ -311,20 +311,24 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
         converged_[b] = island_ratio[b] * (1.0 + damping_[b]) <= 1.0;
 
     // Rotations taken exactly (see rotation_exact_step); an island for which that is not
-    // a descent direction keeps the plain Newton step.
+    // a descent direction keeps the plain Newton step. Constrained bodies keep the straight
+    // step (it keeps linear rows exact): when every moving body is one (an articulation),
+    // there is nothing to do.
+    auto rotates = [&](int b) { return !inactive[b] && !(!jointed_.empty() && jointed_[b]); };
+    bool any_rotates = false;
+    for (int b = 0; b < n_ && !any_rotates; ++b) any_rotates = rotates(b);
     VecX& dq_newton = dq_newton_;
-    dq_newton = dq_;
+    if (any_rotates) dq_newton = dq_;
     parallel_for(
-        n_, threads_,
+        any_rotates ? n_ : 0, threads_,
         [&](int b) {
-          // Constrained bodies keep the straight step: it keeps linear rows exact.
-          if (inactive[b] || (!jointed_.empty() && jointed_[b])) return;
+          if (!rotates(b)) return;
           dq_.segment<12>(12 * b) = rotation_exact_step(x_.segment<12>(12 * b),
                                                         dq_newton.segment<12>(12 * b),
                                                         dyadic_[b].m_x_bar / dyadic_[b].m);
         },
         kLightLoop);
-    {
+    if (any_rotates) {
       VecX& slope_exact = slope_exact_;
       slope_exact.setZero(n_);
       for (int b = 0; b < n_; ++b)
