@@ -289,6 +289,13 @@ class World {
   std::vector<double> term_parameters_;
   std::vector<double> energy_parts_;
   VecX island_st_, island_sa_, island_ratio_, slope_exact_, dq_newton_;
+  // place_kinematic_bodies' and start_iterate's per-body flags and links (world_start.cpp),
+  // kept from step to step.
+  struct StartScratch {
+    std::vector<unsigned char> moving, near, warm, warm_island, stays, solved, strayed;
+    std::vector<unsigned char> engaged, free_island;
+    std::vector<BodyLink> links;
+  } start_;
 };
 
 }  // namespace abd
