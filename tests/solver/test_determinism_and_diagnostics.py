@@ -72,3 +72,26 @@ def test_sync_and_vertices(tools):
     np.testing.assert_array_equal(sc.transforms, T)
     np.testing.assert_array_equal(sc.instances["velocity"], world.velocities())
     assert sc.meta["dof_offset"] == 0 and sc.meta["dof_count"] == 24
+
+
+def test_last_diagnostics_survive_history_changes(tools):
+    # The last step's diagnostics live in the history when it keeps steps (moved there, not
+    # copied): clearing or shrinking the history to nothing must leave them readable.
+    world = tools.world_of(spinning_boxes(tools, n=3), history_limit=2)
+    world.step(3)
+    core = world._core
+    last = core.diagnostics
+    assert [s.step for s in core.history] == [1, 2] and last.step == 2
+    energies = dict(last.energies)
+    core.clear_history()
+    assert core.history == [] and core.diagnostics.step == 2
+    assert dict(core.diagnostics.energies) == energies
+    world.step()
+    assert [s.step for s in core.history] == [3] and core.diagnostics.step == 3
+    core.set_history_limit(0)
+    assert core.history == [] and core.diagnostics.step == 3
+    world.step()
+    assert core.history == [] and core.diagnostics.step == 4
+    core.set_history_limit(5)
+    world.step(2)
+    assert [s.step for s in core.history] == [5, 6] and core.diagnostics.step == 6

@@ -52,9 +52,13 @@ void parallel_for_slot(int n, int threads, F&& f) {
 }
 
 // Σ f(i) for i in [0, n), the same bits for any thread count.
+// Indices per chunk of deterministic_sum: a sum over fewer is one chunk, summed in index
+// order from 0.
+constexpr int kDeterministicChunk = 256;
+
 template <typename F>
 double deterministic_sum(int n, int threads, F&& f) {
-  constexpr int kChunk = 256;
+  constexpr int kChunk = kDeterministicChunk;
   const int chunks = (n + kChunk - 1) / kChunk;
   std::vector<double> partial(std::max(chunks, 1), 0.0);
   parallel_for(

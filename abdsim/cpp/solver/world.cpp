@@ -266,12 +266,15 @@ const StepDiagnostics& World::step() {
   d.time = time_;
   d.wall_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  diag_ = std::move(d);
   if (history_limit_ > 0) {
     if (history_.size() >= history_limit_) history_.pop_front();
-    history_.push_back(diag_);
+    history_.push_back(std::move(d));
+    diag_in_history_ = true;
+  } else {
+    diag_ = std::move(d);
+    diag_in_history_ = false;
   }
-  return diag_;
+  return diagnostics();
 }
 
 // Solves one step of length scene_.dt from the current state into x_ and q_dot_new_ (the
@@ -320,7 +323,15 @@ void World::commit_step() {
 
 void World::set_history_limit(std::size_t limit) {
   history_limit_ = limit;
-  while (history_.size() > history_limit_) history_.pop_front();
+  set_history_limit_kept(limit);
+}
+
+void World::set_history_limit_kept(std::size_t kept) {
+  if (diag_in_history_ && history_.size() > kept && kept == 0) {
+    diag_ = std::move(history_.back());  // diagnostics() still reads the last step
+    diag_in_history_ = false;
+  }
+  while (history_.size() > kept) history_.pop_front();
 }
 
 // ---------------------------------------------------------------------------------------

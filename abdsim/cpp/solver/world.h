@@ -97,11 +97,11 @@ class World {
   const VecX& q() const { return q_; }
   const VecX& q_dot() const { return q_dot_; }
   Mat12 mass_matrix(int body) const { return mass_matrix_.at(check_body(body)); }
-  const StepDiagnostics& diagnostics() const { return diag_; }
+  const StepDiagnostics& diagnostics() const { return diag_in_history_ ? history_.back() : diag_; }
   // Diagnostics of the last `history_limit` steps, oldest first (0 keeps none).
   const std::deque<StepDiagnostics>& history() const { return history_; }
   void set_history_limit(std::size_t limit);
-  void clear_history() { history_.clear(); }
+  void clear_history() { set_history_limit_kept(0); }
 
   // Replaces the state (e.g. a reset or teleport); BDF2 restarts with a BDF1 step.
   void set_state(const VecX& q, const VecX& q_dot);
@@ -272,9 +272,30 @@ class World {
   double gap_ = 0.0;
   VecX gap_q_;
   std::vector<std::uint8_t> gap_kinematic_;
+  // The last step's diagnostics: history_.back() when the history keeps steps (moved there,
+  // not copied), else diag_.
   StepDiagnostics diag_;
+  bool diag_in_history_ = false;
   std::deque<StepDiagnostics> history_;
   std::size_t history_limit_ = 10000;
+  // Drops the oldest entries down to `kept`, moving the last step's out first if it goes.
+  void set_history_limit_kept(std::size_t kept);
+  // solve_coupled's per-iteration scratch, kept from iteration to iteration and step to step
+  // (no allocation once sized).
+  std::vector<std::uint8_t> inactive_;
+  std::vector<int> island_root_;
+  std::vector<unsigned char> near_;
+  std::vector<BodyLink> links_;
+  std::vector<double> term_parameters_;
+  std::vector<double> energy_parts_;
+  VecX island_st_, island_sa_, island_ratio_, slope_exact_, dq_newton_;
+  // place_kinematic_bodies' and start_iterate's per-body flags and links (world_start.cpp),
+  // kept from step to step.
+  struct StartScratch {
+    std::vector<unsigned char> moving, near, warm, warm_island, stays, solved, strayed;
+    std::vector<unsigned char> engaged, free_island;
+    std::vector<BodyLink> links;
+  } start_;
 };
 
 }  // namespace abd

@@ -127,11 +127,16 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   lag_at_start();
 
   // 3. Newton, island by island in lockstep.
-  std::vector<BodyLink> links;
+  std::vector<BodyLink>& links = links_;
   double rest = 0.0;
-  std::vector<std::uint8_t> inactive(n_, 1);
-  std::vector<int> root(n_);  // island roots, for the parallel loops (island() writes)
-  VecX island_st(n_), island_sa(n_);
+  std::vector<std::uint8_t>& inactive = inactive_;
+  inactive.assign(n_, 1);
+  std::vector<int>& root = island_root_;  // island roots, for the parallel loops (island() writes)
+  root.resize(n_);
+  VecX& island_st = island_st_;
+  VecX& island_sa = island_sa_;
+  island_st.resize(n_);
+  island_sa.resize(n_);
   std::string solver_used;
   bool all_done = false;
   int free_newton = 0;  // iterations of the bodies whose free solution stands
@@ -283,7 +288,8 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     // Per-island convergence test on the direction, relative to each body's tolerances.
     island_st.setZero();
     island_sa.setZero();
-    VecX island_ratio = VecX::Zero(n_);
+    VecX& island_ratio = island_ratio_;
+    island_ratio.setZero(n_);
     d.step_translation = d.step_affine = 0.0;
     for (int b = 0; b < n_; ++b) {
       if (inactive[b]) continue;
@@ -305,20 +311,26 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
         converged_[b] = island_ratio[b] * (1.0 + damping_[b]) <= 1.0;
 
     // Rotations taken exactly (see rotation_exact_step); an island for which that is not
-    // a descent direction keeps the plain Newton step.
-    VecX dq_newton = dq_;
+    // a descent direction keeps the plain Newton step. Constrained bodies keep the straight
+    // step (it keeps linear rows exact): when every moving body is one (an articulation),
+    // there is nothing to do.
+    auto rotates = [&](int b) { return !inactive[b] && !(!jointed_.empty() && jointed_[b]); };
+    bool any_rotates = false;
+    for (int b = 0; b < n_ && !any_rotates; ++b) any_rotates = rotates(b);
+    VecX& dq_newton = dq_newton_;
+    if (any_rotates) dq_newton = dq_;
     parallel_for(
-        n_, threads_,
+        any_rotates ? n_ : 0, threads_,
         [&](int b) {
-          // Constrained bodies keep the straight step: it keeps linear rows exact.
-          if (inactive[b] || (!jointed_.empty() && jointed_[b])) return;
+          if (!rotates(b)) return;
           dq_.segment<12>(12 * b) = rotation_exact_step(x_.segment<12>(12 * b),
                                                         dq_newton.segment<12>(12 * b),
                                                         dyadic_[b].m_x_bar / dyadic_[b].m);
         },
         kLightLoop);
-    {
-      VecX slope_exact = VecX::Zero(n_);
+    if (any_rotates) {
+      VecX& slope_exact = slope_exact_;
+      slope_exact.setZero(n_);
       for (int b = 0; b < n_; ++b)
         if (!inactive[b])
           slope_exact[island(b)] += grad_.segment<12>(12 * b).dot(dq_.segment<12>(12 * b));
@@ -328,7 +340,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     }
 
     // Step bounds (CCD) and links along the direction.
-    std::vector<unsigned char> near;
+    std::vector<unsigned char>& near = near_;
     links.clear();
     lap.split();
     const double global = step_bounds(x_, dq_, movable_, near, links);
@@ -392,7 +404,8 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     }
 
     // Accept: terms see the new iterate; islands they now link iterate again together.
-    std::vector<double> parameters;
+    std::vector<double>& parameters = term_parameters_;
+    parameters.clear();
     for (const auto& t : terms_) parameters.push_back(t->energy_parameter());
     for (const auto& t : terms_) t->update(x_);
     d.time_contact_update += lap.split();
@@ -440,7 +453,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     }
   }
 
-  std::vector<double> parts;
+  std::vector<double>& parts = energy_parts_;
   const double E = total_energy(x_, c2, &parts);
   d.energies = {{"kinetic", parts[0]}, {"shape", parts[1]}};
   if (d.driven_bodies > 0) d.energies.emplace_back("kinematic_drive", parts[2]);

@@ -17,7 +17,8 @@ using namespace world_detail;
 // Kinematic bodies: at their targets (constrained) when the move is free of contact with
 // everything else at rest; otherwise driven (movable, pulled by the stiff spring).
 void World::place_kinematic_bodies(StepDiagnostics& d) {
-  VecX dq = VecX::Zero(12 * n_);
+  VecX& dq = dq_;  // start_iterate sets dq_ afresh
+  dq.setZero(12 * n_);
   bool any = false;
   for (int b = 0; b < n_; ++b) {
     if (!kinematic_[b]) continue;
@@ -26,8 +27,11 @@ void World::place_kinematic_bodies(StepDiagnostics& d) {
     dq.segment<12>(12 * b) = step;
     any = true;
   }
-  std::vector<unsigned char> moving(n_, 0), near;
-  std::vector<BodyLink> links;
+  std::vector<unsigned char>& moving = start_.moving;
+  std::vector<unsigned char>& near = start_.near;
+  std::vector<BodyLink>& links = start_.links;
+  moving.assign(n_, 0);
+  links.clear();
   while (any) {
     for (int b = 0; b < n_; ++b) moving[b] = !dq.segment<12>(12 * b).isZero(0.0);
     const double global = step_bounds(q_, dq, moving, near, links);
@@ -86,7 +90,8 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
     orthogonalise_prediction(b);
     x_free_.segment<12>(12 * b) = x_pred_.segment<12>(12 * b);
   });
-  std::vector<unsigned char> warm(n_, 0);
+  std::vector<unsigned char>& warm = start_.warm;
+  warm.assign(n_, 0);
   for (int b = 0; b < n_; ++b) {
     if (!movable_[b] || driven_[b]) continue;
     Vec12 guess;
@@ -106,8 +111,9 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
           merge_islands(first, b);
       }
   }
-  std::vector<unsigned char> near;
-  std::vector<BodyLink> links;
+  std::vector<unsigned char>& near = start_.near;
+  std::vector<BodyLink>& links = start_.links;
+  links.clear();
   const double global = step_bounds(x_, dq_, movable_, near, links);
   // The checks so far (the last check of a move is skipped when one of them was that move;
   // kept only where that last check can run: some term has a reach).
@@ -117,17 +123,23 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   if (reach > 0.0) checked.push_back({x_, dq_, bound_, global});
   for (const BodyLink& l : links) merge_islands(l.a, l.b);
   join_constrained_islands(near);
-  std::vector<unsigned char> warm_island(n_, 1);  // per island root: start at the warm guess
+  // Per island root: start at the warm guess.
+  std::vector<unsigned char>& warm_island = start_.warm_island;
+  warm_island.assign(n_, 1);
   for (int b = 0; b < n_; ++b)
     if (movable_[b] && !(warm[b] && bound_[b] >= 1.0 && global >= 1.0)) warm_island[island(b)] = 0;
-  std::vector<unsigned char> stays(n_, 0);  // per island root: start where it is
+  std::vector<unsigned char>& stays = start_.stays;  // per island root: start where it is
+  stays.assign(n_, 0);
   for (int b = 0; b < n_; ++b)
     if (movable_[b] && (near[b] || bound_[b] < 1.0 || global < 1.0)) stays[island(b)] = 1;
 
   // Free solutions of the bodies of islands that nothing comes near.
   const double slack = 0.25 * reach;
   free_iterations_.assign(n_, 0);
-  std::vector<unsigned char> solved(n_, 0), strayed(n_, 0);
+  std::vector<unsigned char>& solved = start_.solved;
+  std::vector<unsigned char>& strayed = start_.strayed;
+  solved.assign(n_, 0);
+  strayed.assign(n_, 0);
   for (int b = 0; b < n_; ++b) solved[b] = split && movable_[b] && !driven_[b] && !stays[island(b)];
   parallel_for(n_, threads_, [&](int b) {
     if (!solved[b]) return;
@@ -224,9 +236,11 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   for (const BodyLink& l : links) merge_islands(l.a, l.b);
   if (!split) return;
   // Islands with nothing near, at their free solution, with no contact there: solved.
-  std::vector<unsigned char> engaged(n_, 0);
+  std::vector<unsigned char>& engaged = start_.engaged;
+  engaged.assign(n_, 0);
   for (const auto& t : terms_) t->mark_active_bodies(engaged);
-  std::vector<unsigned char> free_island(n_, 1);
+  std::vector<unsigned char>& free_island = start_.free_island;
+  free_island.assign(n_, 1);
   for (int b = 0; b < n_; ++b)
     if (movable_[b] && (near[b] || stays[island(b)] || !solved[b] || engaged[b]))
       free_island[island(b)] = 0;
