@@ -128,6 +128,10 @@ IpcContactTerm::Sweep IpcContactTerm::bounded_sweep(const VecX& q, const VecX& d
   options.target = settings_.ccd_target;
   const int n = int(stencils.size());
   out.toi.assign(size_t(n), 1.0);
+  // The barrier's sweep (margin > 0) also keeps each pair's gap bound along the path, each
+  // side along its own body's checked move (the line search may stop bodies apart).
+  const bool keep_reach = margin > 0.0;
+  if (keep_reach) out.reach.resize(size_t(n));
   for_each_stencil(n, n >= kMinParallelCcd, threads_, [&](int i) {
     const ContactStencil& s = stencils[size_t(i)];
     // Both bodies of a pair move together (one island, one step length): along the shorter
@@ -143,6 +147,14 @@ IpcContactTerm::Sweep IpcContactTerm::bounded_sweep(const VecX& q, const VecX& d
       moving = moving || p0[size_t(k)] != p1[size_t(k)];
     }
     out.toi[size_t(i)] = m * (moving ? stencil_toi(s, p0, p1, settings_.ground_height, options) : 1.0);
+    if (keep_reach) {
+      for (int k = 0; k < s.nv; ++k) {
+        const int v = s.vertices[size_t(k)];
+        const double sb = out.scale[size_t(mesh_.vertex_body[v])];
+        p1[size_t(k)] = sb == 1.0 ? x_end[v] : Vec3(x0[v] + sb * (x_end[v] - x0[v]));
+      }
+      out.reach[size_t(i)] = path_reach(s, x0, p1, settings_.ground_height);
+    }
   });
   return out;
 }
