@@ -12,13 +12,18 @@ constexpr double kRelativeSlack = 1e-2;
 }  // namespace
 
 PathReach path_reach(const ContactStencil& s, const std::vector<Vec3>& x0,
-                     const std::array<Vec3, 4>& p1, double ground_height) {
+                     const std::array<Vec3, 4>& p1, double ground_height, double known_gap) {
   PathReach r;
   r.bodies = s.bodies;
-  const StencilGeometry g = stencil_geometry(s, x0, ground_height, 0);
-  if (g.infeasible) {
-    r.gap0 = -std::numeric_limits<double>::infinity();
-    return r;
+  if (s.kind != StencilKind::PointGround) {
+    if (std::isnan(known_gap)) {
+      const StencilGeometry g = stencil_geometry(s, x0, ground_height, 0);
+      known_gap = g.infeasible ? 0.0 : std::sqrt(g.d2) - s.xi;
+    }
+    if (!(known_gap > 0.0)) {  // within the thickness already: always in the active set
+      r.gap0 = -std::numeric_limits<double>::infinity();
+      return r;
+    }
   }
   double size = 0.0;  // coordinate magnitude, for the absolute rounding allowance
   if (s.kind == StencilKind::PointGround) {
@@ -27,7 +32,7 @@ PathReach path_reach(const ContactStencil& s, const std::vector<Vec3>& x0,
     r.move_a = std::abs(p1[0].z() - p.z());
     size = std::max(std::abs(p.z()), std::abs(ground_height)) + r.move_a;
   } else {
-    r.gap0 = std::sqrt(g.d2) - s.xi;
+    r.gap0 = known_gap;
     const int n_first = s.kind == StencilKind::PointTriangle ? 1 : 2;
     std::array<Vec3, 4> dx;
     Vec3 c = Vec3::Zero();

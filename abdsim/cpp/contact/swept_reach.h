@@ -13,6 +13,8 @@
 // all candidates (the energy is bit-identical), without their distances at every trial.
 #pragma once
 #include <array>
+#include <cmath>
+#include <limits>
 #include <vector>
 
 #include "contact/broad_phase/broad_phase.h"
@@ -29,10 +31,12 @@ struct PathReach {
   std::array<int, 2> bodies{-1, -1};
 };
 
-// The bound's data of stencil s from its vertices p0 at the sweep's start and p1 at the end of
-// each side's checked move. gap0 is the distance select_active would compute at x0.
+// The bound's data of stencil s from the vertices x0 at the sweep's start and p1 at the end of
+// each side's checked move. gap0 is the distance select_active would compute at x0, or
+// known_gap (the same to rounding, e.g. additive CCD's) when that is not NaN.
 PathReach path_reach(const ContactStencil& s, const std::vector<Vec3>& x0,
-                     const std::array<Vec3, 4>& p1, double ground_height);
+                     const std::array<Vec3, 4>& p1, double ground_height,
+                     double known_gap = std::numeric_limits<double>::quiet_NaN());
 
 // The lowest gap the bound allows with the two sides at t_a and t_b of their moves.
 inline double lowest_gap(const PathReach& r, double ta, double tb) {
