@@ -66,6 +66,7 @@ void IpcContactTerm::body_max_steps(const VecX& q, const VecX& dq,
   }
   swept_.candidates = std::move(sweep.candidates);
   swept_.scale = std::move(sweep.scale);
+  swept_.reach = std::move(sweep.reach);
   swept_.valid = true;
   const int n = int(sweep.stencils.size());
   for (int i = 0; i < n; ++i) {
@@ -80,8 +81,9 @@ void IpcContactTerm::body_max_steps(const VecX& q, const VecX& dq,
   }
 }
 
-bool IpcContactTerm::on_swept_path(const VecX& q) const {
+bool IpcContactTerm::on_swept_path(const VecX& q, std::vector<double>& times) const {
   if (!swept_.valid || q.size() != swept_.q0.size()) return false;
+  times.resize(size_t(q.size() / 12));
   // Rounding of q0 + α dq: a few ulps of the coordinates' size.
   constexpr double kUlps = 8.0 * std::numeric_limits<double>::epsilon();
   for (Eigen::Index b = 0; b < q.size() / 12; ++b) {
@@ -93,6 +95,7 @@ bool IpcContactTerm::on_swept_path(const VecX& q) const {
     const double t = ss > 0.0 ? d.dot(s) / ss : 0.0;
     if (t < -kUlps || t > 1.0 + kUlps) return false;
     if ((d - t * s).cwiseAbs().maxCoeff() > kUlps * scale) return false;
+    times[size_t(b)] = std::clamp(t, 0.0, 1.0);  // the bound's slack covers the ulps cut off
   }
   return true;
 }

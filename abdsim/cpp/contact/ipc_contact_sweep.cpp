@@ -4,6 +4,7 @@
 // move is shortened for the bodies that move farthest until the query fits: a shorter move
 // still gives conservative step bounds (the solver never steps past a body's checked part).
 #include <algorithm>
+#include <limits>
 #include <sstream>
 
 #include "contact/ccd/additive_ccd.h"
@@ -128,6 +129,10 @@ IpcContactTerm::Sweep IpcContactTerm::bounded_sweep(const VecX& q, const VecX& d
   options.target = settings_.ccd_target;
   const int n = int(stencils.size());
   out.toi.assign(size_t(n), 1.0);
+  // The barrier's sweep (margin > 0) also keeps each pair's gap bound along the path, each
+  // side along its own body's checked move (the line search may stop bodies apart).
+  const bool keep_reach = margin > 0.0;
+  if (keep_reach) out.reach.resize(size_t(n));
   for_each_stencil(n, n >= kMinParallelCcd, threads_, [&](int i) {
     const ContactStencil& s = stencils[size_t(i)];
     // Both bodies of a pair move together (one island, one step length): along the shorter
@@ -142,7 +147,18 @@ IpcContactTerm::Sweep IpcContactTerm::bounded_sweep(const VecX& q, const VecX& d
       p1[size_t(k)] = m == 1.0 ? x_end[v] : Vec3(x0[v] + m * (x_end[v] - x0[v]));
       moving = moving || p0[size_t(k)] != p1[size_t(k)];
     }
-    out.toi[size_t(i)] = m * (moving ? stencil_toi(s, p0, p1, settings_.ground_height, options) : 1.0);
+    double gap0 = std::numeric_limits<double>::quiet_NaN();  // CCD's d − ξ at the start
+    CcdOptions o = options;
+    if (keep_reach) o.start_gap = &gap0;
+    out.toi[size_t(i)] = m * (moving ? stencil_toi(s, p0, p1, settings_.ground_height, o) : 1.0);
+    if (keep_reach) {
+      for (int k = 0; k < s.nv; ++k) {
+        const int v = s.vertices[size_t(k)];
+        const double sb = out.scale[size_t(mesh_.vertex_body[v])];
+        p1[size_t(k)] = sb == 1.0 ? x_end[v] : Vec3(x0[v] + sb * (x_end[v] - x0[v]));
+      }
+      out.reach[size_t(i)] = path_reach(s, x0, p1, settings_.ground_height, gap0);
+    }
   });
   return out;
 }

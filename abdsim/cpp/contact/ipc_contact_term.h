@@ -36,6 +36,7 @@
 #include "contact/contact_table.h"
 #include "contact/damping/normal_damping.h"
 #include "contact/friction_set.h"
+#include "contact/swept_reach.h"
 #include "contact/verlet_candidates.h"
 #include "solver/energy_term.h"
 #include "solver/scene_data.h"
@@ -230,11 +231,13 @@ class IpcContactTerm : public EnergyTerm {
     std::vector<double> toi;         // per stencil: step bound as a fraction of the full dq
     std::vector<double> scale;       // per body
     contact::Candidates candidates;
+    // per stencil, only for a sweep with margin > 0: its gap bound along the path
+    std::vector<contact::PathReach> reach;
   };
   Sweep bounded_sweep(const VecX& q, const VecX& dq, double margin) const;
   // True when every body of q lies on its segment of the last body_max_steps move:
-  // q_b = q0_b + t_b dq_b with t_b in [0, 1] (to rounding).
-  bool on_swept_path(const VecX& q) const;
+  // q_b = q0_b + t_b dq_b with t_b in [0, 1] (to rounding); t (one per body) gets the t_b.
+  bool on_swept_path(const VecX& q, std::vector<double>& t) const;
   // The world vertices at q: those of the active set, the last set built or the last
   // sweep's end when one describes q (the solver asks at one iterate for energies, gradients
   // and step bounds: a 5,000-vertex robot spent a third of its step recomputing them), else
@@ -260,9 +263,15 @@ class IpcContactTerm : public EnergyTerm {
     VecX q0, dq;  // dq: each body's checked (possibly shortened) move
     contact::Candidates candidates;
     std::vector<double> scale;  // per body: its share of the full dq (bounded_sweep)
+    // per candidate: the bound on its gap along the path (swept_reach.h), by which a trial
+    // selects its active set from the few candidates that can be within d̂ there
+    std::vector<contact::PathReach> reach;
     bool valid = false;
   };
   mutable SweptCandidates swept_;
+  // Scratch of build_active_set: the per-body path times and reachable candidates of a trial.
+  mutable std::vector<double> trial_times_;
+  mutable contact::Candidates trial_candidates_;
   // bounded_sweep's vertex buffers, kept to spare a large allocation per sweep (the term is
   // never evaluated from two threads at once).
   mutable std::vector<Vec3> sweep_start_, sweep_end_;

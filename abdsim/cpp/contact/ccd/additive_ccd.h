@@ -22,6 +22,9 @@ struct CcdOptions {
   double tmax = 1.0;
   double target = 0.1;         // s: keep at least s × the initial gap
   long max_iterations = 10000;  // a cap for grazing motion; the t reached so far is safe
+  // If set, receives the gap d − ξ at t = 0 whenever the primitives move (a caller that also
+  // needs it, swept_reach.h, saves a distance); left as it is otherwise.
+  double* start_gap = nullptr;
 };
 
 double point_point_ccd(const Vec3& p0_t0, const Vec3& p1_t0, const Vec3& p0_t1,
