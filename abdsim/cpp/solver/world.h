@@ -292,6 +292,7 @@ class World {
   // place_kinematic_bodies' and start_iterate's per-body flags and links (world_start.cpp),
   // kept from step to step.
   struct StartScratch {
+    VecX dq;  // the kinematic bodies' moves
     std::vector<unsigned char> moving, near, warm, warm_island, stays, solved, strayed;
     std::vector<unsigned char> engaged, free_island;
     std::vector<BodyLink> links;

@@ -17,7 +17,7 @@ using namespace world_detail;
 // Kinematic bodies: at their targets (constrained) when the move is free of contact with
 // everything else at rest; otherwise driven (movable, pulled by the stiff spring).
 void World::place_kinematic_bodies(StepDiagnostics& d) {
-  VecX& dq = dq_;  // start_iterate sets dq_ afresh
+  VecX& dq = start_.dq;
   dq.setZero(12 * n_);
   bool any = false;
   for (int b = 0; b < n_; ++b) {
