@@ -10,6 +10,7 @@
 // (fixed chunks, summed in order), so results are bit-identical for any thread count.
 #pragma once
 #include <algorithm>
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -51,27 +52,40 @@ void parallel_for_slot(int n, int threads, F&& f) {
   });
 }
 
-// Σ f(i) for i in [0, n), the same bits for any thread count.
-// Indices per chunk of deterministic_sum: a sum over fewer is one chunk, summed in index
+// Indices per chunk of deterministic_sum(s): a sum over fewer is one chunk, summed in index
 // order from 0.
 constexpr int kDeterministicChunk = 256;
 
-template <typename F>
-double deterministic_sum(int n, int threads, F&& f) {
+// Σ f(i) for i in [0, n) of each of the K components of f(i) (a std::array<double, K>), the
+// same bits for any thread count: every component is summed in fixed chunks of indices, in
+// index order within a chunk, and the chunks' sums in chunk order. One pass over the indices
+// for K sums; each comes out as deterministic_sum of that component alone would give it.
+template <int K, typename F>
+std::array<double, K> deterministic_sums(int n, int threads, F&& f) {
   constexpr int kChunk = kDeterministicChunk;
-  const int chunks = (n + kChunk - 1) / kChunk;
-  std::vector<double> partial(std::max(chunks, 1), 0.0);
+  const int chunks = std::max((n + kChunk - 1) / kChunk, 1);
+  std::vector<std::array<double, K>> partial(chunks);
   parallel_for(
       chunks, threads,
       [&](int c) {
-        double s = 0.0;
-        for (int i = c * kChunk, end = std::min(n, (c + 1) * kChunk); i < end; ++i) s += f(i);
+        std::array<double, K> s{};
+        for (int i = c * kChunk, end = std::min(n, (c + 1) * kChunk); i < end; ++i) {
+          const std::array<double, K> v = f(i);
+          for (int k = 0; k < K; ++k) s[k] += v[k];
+        }
         partial[c] = s;
       },
       2);
-  double s = 0.0;
-  for (double p : partial) s += p;
-  return s;
+  std::array<double, K> total{};
+  for (const std::array<double, K>& p : partial)
+    for (int k = 0; k < K; ++k) total[k] += p[k];
+  return total;
+}
+
+// Σ f(i) for i in [0, n), the same bits for any thread count.
+template <typename F>
+double deterministic_sum(int n, int threads, F&& f) {
+  return deterministic_sums<1>(n, threads, [&](int i) { return std::array<double, 1>{f(i)}; })[0];
 }
 
 }  // namespace abd

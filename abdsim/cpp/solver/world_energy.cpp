@@ -1,6 +1,7 @@
 // Π and its parts as the coupled solve evaluates them: per body (kinetic or drive, shape),
 // per island (terms that split by body), in total (diagnostics), and the terms' step bounds.
 #include <algorithm>
+#include <array>
 #include <numeric>
 #include <vector>
 
@@ -74,31 +75,17 @@ double World::body_energies(const VecX& x, double c2, VecX& E,
 // Π at x for the diagnostics; `parts`: kinetic, shape, drive (the driven bodies' whole
 // share of Π, in Π's units), then each term's value.
 double World::total_energy(const VecX& x, double c2, std::vector<double>* parts) const {
-  // The three sums in one pass over the bodies where they are one chunk of
-  // deterministic_sum (each still summed in body order from 0: the same bits), in parallel
-  // chunks otherwise.
-  double kinetic = 0.0, drive = 0.0, shape = 0.0;
-  auto kinetic_of = [&](int b) {
-    if (constrained_[b] || driven_[b] || external_kinetic_[b]) return 0.0;
-    return mass_quadratic(dyadic_[b], x.segment<12>(12 * b) - q_tilde_.segment<12>(12 * b));
-  };
-  auto drive_of = [&](int b) {
-    return driven_[b] ? body_energy(b, x.segment<12>(12 * b), c2, nullptr, nullptr) : 0.0;
-  };
-  auto shape_of = [&](int b) {
-    return driven_[b] ? 0.0 : shape_.body_value(b, x.segment<12>(12 * b));
-  };
-  if (n_ <= kDeterministicChunk) {
-    for (int b = 0; b < n_; ++b) {
-      kinetic += kinetic_of(b);
-      drive += drive_of(b);
-      shape += shape_of(b);
-    }
-  } else {
-    kinetic = deterministic_sum(n_, threads_, kinetic_of);
-    drive = deterministic_sum(n_, threads_, drive_of);
-    shape = deterministic_sum(n_, threads_, shape_of);
-  }
+  // Kinetic, drive and shape in one pass over the bodies (deterministic_sums: each summed in
+  // body order within fixed chunks, whatever the thread count).
+  const auto [kinetic, drive, shape] =
+      deterministic_sums<3>(n_, threads_, [&](int b) -> std::array<double, 3> {
+        const auto xb = x.segment<12>(12 * b);
+        if (driven_[b]) return {0.0, body_energy(b, xb, c2, nullptr, nullptr), 0.0};
+        const double ek = constrained_[b] || external_kinetic_[b]
+                              ? 0.0
+                              : mass_quadratic(dyadic_[b], xb - q_tilde_.segment<12>(12 * b));
+        return {ek, 0.0, shape_.body_value(b, xb)};
+      });
   double potential = shape;
   if (parts) parts->assign({kinetic, shape, drive});
   for (const auto& t : terms_) {
