@@ -75,9 +75,13 @@ def test_sync_and_vertices(tools):
 
 
 def test_last_diagnostics_survive_history_changes(tools):
-    # The last step's diagnostics live in the history when it keeps steps (moved there, not
-    # copied): clearing or shrinking the history to nothing must leave them readable.
+    # Every step's diagnostics have one owner, the World's deque of kept steps (moved there,
+    # not copied), which always keeps the last step: clearing or shrinking the history to
+    # nothing must leave it readable, and the history shows only steps since it was cleared.
+    # Python reads copies (a reference into a dropped step would dangle).
     world = tools.world_of(spinning_boxes(tools, n=3), history_limit=2)
+    assert world._core.history == [] and world._core.diagnostics.step == 0
+    assert not world._core.diagnostics.converged  # nothing stepped yet: the defaults
     world.step(3)
     core = world._core
     last = core.diagnostics
@@ -95,3 +99,6 @@ def test_last_diagnostics_survive_history_changes(tools):
     core.set_history_limit(5)
     world.step(2)
     assert [s.step for s in core.history] == [5, 6] and core.diagnostics.step == 6
+    core.set_history_limit(1)
+    assert [s.step for s in core.history] == [6] and core.diagnostics.step == 6
+    assert core.history[0].wall_time == core.diagnostics.wall_time  # the same step

@@ -551,7 +551,9 @@ void bind_world(py::module_& m) {
       .def("release_kinematic", &World::release_kinematic, py::arg("body"))
       .def("is_kinematic", &World::is_kinematic, py::arg("body"))
       .def("mass_matrix", &World::mass_matrix, py::arg("body"))
-      .def_property_readonly("diagnostics", &World::diagnostics)
+      // A copy: the World drops old steps' diagnostics as it goes, and a Python object
+      // referring into them would outlive them.
+      .def_property_readonly("diagnostics", [](const World& w) { return w.diagnostics(); })
       .def_property_readonly(
           "history",
           [](const World& w) {

@@ -266,15 +266,10 @@ const StepDiagnostics& World::step() {
   d.time = time_;
   d.wall_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  if (history_limit_ > 0) {
-    if (history_.size() >= history_limit_) history_.pop_front();
-    history_.push_back(std::move(d));
-    diag_in_history_ = true;
-  } else {
-    diag_ = std::move(d);
-    diag_in_history_ = false;
-  }
-  return diagnostics();
+  steps_.push_back(std::move(d));
+  reported_ = std::min(reported_ + 1, history_limit_);
+  trim_steps();
+  return steps_.back();
 }
 
 // Solves one step of length scene_.dt from the current state into x_ and q_dot_new_ (the
@@ -321,17 +316,30 @@ void World::commit_step() {
   fresh_state_ = false;
 }
 
-void World::set_history_limit(std::size_t limit) {
-  history_limit_ = limit;
-  set_history_limit_kept(limit);
+const StepDiagnostics& World::diagnostics() const {
+  static const StepDiagnostics before_first_step;
+  return steps_.empty() ? before_first_step : steps_.back();
 }
 
-void World::set_history_limit_kept(std::size_t kept) {
-  if (diag_in_history_ && history_.size() > kept && kept == 0) {
-    diag_ = std::move(history_.back());  // diagnostics() still reads the last step
-    diag_in_history_ = false;
-  }
-  while (history_.size() > kept) history_.pop_front();
+World::HistoryView World::history() const {
+  return {steps_.end() - static_cast<std::ptrdiff_t>(reported_), steps_.end()};
+}
+
+void World::set_history_limit(std::size_t limit) {
+  history_limit_ = limit;
+  reported_ = std::min(reported_, limit);
+  trim_steps();
+}
+
+void World::clear_history() {
+  reported_ = 0;
+  trim_steps();
+}
+
+void World::trim_steps() {
+  // The last step stays (diagnostics() reads it) even when no step is reported.
+  const std::size_t kept = std::max<std::size_t>(history_limit_, 1);
+  while (steps_.size() > kept) steps_.pop_front();
 }
 
 // ---------------------------------------------------------------------------------------

@@ -97,11 +97,19 @@ class World {
   const VecX& q() const { return q_; }
   const VecX& q_dot() const { return q_dot_; }
   Mat12 mass_matrix(int body) const { return mass_matrix_.at(check_body(body)); }
-  const StepDiagnostics& diagnostics() const { return diag_in_history_ ? history_.back() : diag_; }
+  // The last step's diagnostics (default values before the first step).
+  const StepDiagnostics& diagnostics() const;
   // Diagnostics of the last `history_limit` steps, oldest first (0 keeps none).
-  const std::deque<StepDiagnostics>& history() const { return history_; }
+  struct HistoryView {
+    std::deque<StepDiagnostics>::const_iterator first, last;
+    std::deque<StepDiagnostics>::const_iterator begin() const { return first; }
+    std::deque<StepDiagnostics>::const_iterator end() const { return last; }
+    std::size_t size() const { return static_cast<std::size_t>(last - first); }
+  };
+  HistoryView history() const;
   void set_history_limit(std::size_t limit);
-  void clear_history() { set_history_limit_kept(0); }
+  // Empties the history (diagnostics() still reads the last step).
+  void clear_history();
 
   // Replaces the state (e.g. a reset or teleport); BDF2 restarts with a BDF1 step.
   void set_state(const VecX& q, const VecX& q_dot);
@@ -272,14 +280,15 @@ class World {
   double gap_ = 0.0;
   VecX gap_q_;
   std::vector<std::uint8_t> gap_kinematic_;
-  // The last step's diagnostics: history_.back() when the history keeps steps (moved there,
-  // not copied), else diag_.
-  StepDiagnostics diag_;
-  bool diag_in_history_ = false;
-  std::deque<StepDiagnostics> history_;
+  // Every step's diagnostics have one owner, steps_ (each step's moved in, never copied),
+  // which keeps the last max(history_limit_, 1) steps: its back is the last step's
+  // (diagnostics()), and history() shows its newest `reported_` entries (at most
+  // history_limit_: the steps since the history was last cleared).
+  std::deque<StepDiagnostics> steps_;
   std::size_t history_limit_ = 10000;
-  // Drops the oldest entries down to `kept`, moving the last step's out first if it goes.
-  void set_history_limit_kept(std::size_t kept);
+  std::size_t reported_ = 0;
+  // Drops the oldest steps beyond what steps_ keeps.
+  void trim_steps();
   // solve_coupled's per-iteration scratch, kept from iteration to iteration and step to step
   // (no allocation once sized).
   std::vector<std::uint8_t> inactive_;
