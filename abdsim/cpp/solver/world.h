@@ -171,7 +171,16 @@ class World {
   void place_kinematic_bodies(StepDiagnostics& d);
   double step_bounds(const VecX& x, const VecX& dq, const std::vector<unsigned char>& mask,
                      std::vector<unsigned char>& near, std::vector<BodyLink>& links);
+  // world_start.cpp: the Newton start, in its phases (start_iterate calls them in order).
   void start_iterate(bool split, double c2, StepDiagnostics& d);
+  void head_for_warm_guesses(double c2);
+  void join_movable_bodies();
+  void check_start_moves();
+  void solve_free_bodies(bool split, double c2, StepDiagnostics& d);
+  bool place_start(bool split, StepDiagnostics& d);
+  void recheck_warm_islands();
+  void start_terms(bool all_clear);
+  void freeze_free_islands();
   void lag_at_start();
   void balance_term_stiffness(double c2, const VecX& grad_bodies);
   // world_line_search.cpp: Armijo backtracking per island from x_ along dq_, each island
@@ -305,6 +314,16 @@ class World {
     std::vector<unsigned char> moving, near, warm, warm_island, stays, solved, strayed;
     std::vector<unsigned char> engaged, free_island;
     std::vector<BodyLink> links;
+    // The first check of the start move: its bound for the terms that do not split, and
+    // the largest reach of a term.
+    double global = 1.0, reach = 0.0;
+    // A move whose step bounds were computed (step_bounds with the movable mask): the
+    // checks of this start, so that the last one is not run again for the same move.
+    struct CheckedMove {
+      VecX from, dq, bound;
+      double global;
+    };
+    std::vector<CheckedMove> checked;
   } start_;
 };
 

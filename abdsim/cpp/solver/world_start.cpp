@@ -66,24 +66,27 @@ void World::place_kinematic_bodies(StepDiagnostics& d) {
 // guesses when the whole move there is clear, else where it is (IPC's start, always
 // feasible): a start clipped by CCD short of its target would sit deep in the barrier,
 // where Newton on a log barrier only creeps back out.
-namespace {
-
-// A move whose step bounds were computed (World::step_bounds with the movable mask).
-struct CheckedMove {
-  VecX from, dq, bound;
-  double global;
-};
-
-}  // namespace
-
 void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   // Bodies head for their warm guess (warm_guess; bodies without one, for their prediction):
   // islands start there when that move is feasible (every step bound 1), else where they
   // are. A resting heap of 100 boxes starts within ~2 tolerances of its solution this way
   // (~100 from where it is): 1-4 Newton iterations a step instead of 6-10.
+  head_for_warm_guesses(c2);
+  if (!split) join_movable_bodies();
+  check_start_moves();
+  solve_free_bodies(split, c2, d);
+  const bool all_clear = place_start(split, d);
+  recheck_warm_islands();
+  start_terms(all_clear);
+  if (split) freeze_free_islands();
+}
+
+// Where each movable body heads first (x_free_): its warm guess, else its prediction
+// (orthogonalised, predict_body); dq_ the move there from x_.
+void World::head_for_warm_guesses(double c2) {
   mark_jointed();
-  // The predictions bodies may start from (or solve alone from) are orthogonalised
-  // (predict_body): all but those of jointed bodies with a warm guess, which start there.
+  // The predictions bodies may start from (or solve alone from) are orthogonalised: all but
+  // those of jointed bodies with a warm guess, which start there.
   const bool any_warm_guess = warm_valid_.size() == static_cast<std::size_t>(n_);
   parallel_for(n_, threads_, [&](int b) {
     if (fixed_[b] || kinematic_[b] || (any_warm_guess && warm_valid_[b] && jointed_[b])) return;
@@ -101,40 +104,55 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   dq_.setZero(12 * n_);
   for (int b = 0; b < n_; ++b)
     if (movable_[b]) dq_.segment<12>(12 * b) = x_free_.segment<12>(12 * b) - x_.segment<12>(12 * b);
-  if (!split) {
-    int first = -1;
-    for (int b = 0; b < n_; ++b)
-      if (movable_[b]) {
-        if (first < 0)
-          first = b;
-        else
-          merge_islands(first, b);
-      }
-  }
+}
+
+// Terms that do not split by body couple everything: the movable bodies are one island.
+void World::join_movable_bodies() {
+  int first = -1;
+  for (int b = 0; b < n_; ++b)
+    if (movable_[b]) {
+      if (first < 0)
+        first = b;
+      else
+        merge_islands(first, b);
+    }
+}
+
+// The step bounds of the move x_ → x_ + dq_: the islands its links and the constraints form,
+// which of them may start at their warm guesses (warm_island) and which stay where they are
+// (stays: something comes near, or the move is cut).
+void World::check_start_moves() {
   std::vector<unsigned char>& near = start_.near;
   std::vector<BodyLink>& links = start_.links;
   links.clear();
-  const double global = step_bounds(x_, dq_, movable_, near, links);
+  start_.global = step_bounds(x_, dq_, movable_, near, links);
   // The checks so far (the last check of a move is skipped when one of them was that move;
   // kept only where that last check can run: some term has a reach).
-  double reach = 0.0;
-  for (const auto& t : terms_) reach = std::max(reach, t->reach());
-  std::vector<CheckedMove> checked;
-  if (reach > 0.0) checked.push_back({x_, dq_, bound_, global});
+  start_.reach = 0.0;
+  for (const auto& t : terms_) start_.reach = std::max(start_.reach, t->reach());
+  start_.checked.clear();
+  if (start_.reach > 0.0) start_.checked.push_back({x_, dq_, bound_, start_.global});
   for (const BodyLink& l : links) merge_islands(l.a, l.b);
   join_constrained_islands(near);
-  // Per island root: start at the warm guess.
-  std::vector<unsigned char>& warm_island = start_.warm_island;
+  const double global = start_.global;
+  std::vector<unsigned char>& warm_island = start_.warm_island;  // per island root
   warm_island.assign(n_, 1);
   for (int b = 0; b < n_; ++b)
-    if (movable_[b] && !(warm[b] && bound_[b] >= 1.0 && global >= 1.0)) warm_island[island(b)] = 0;
+    if (movable_[b] && !(start_.warm[b] && bound_[b] >= 1.0 && global >= 1.0))
+      warm_island[island(b)] = 0;
   std::vector<unsigned char>& stays = start_.stays;  // per island root: start where it is
   stays.assign(n_, 0);
   for (int b = 0; b < n_; ++b)
     if (movable_[b] && (near[b] || bound_[b] < 1.0 || global < 1.0)) stays[island(b)] = 1;
+}
 
-  // Free solutions of the bodies of islands that nothing comes near.
-  const double slack = 0.25 * reach;
+// Free solutions (x_free_, solved) of the bodies of islands that nothing comes near; when
+// one strays from the checked path, the solved bodies' own moves are checked again.
+void World::solve_free_bodies(bool split, double c2, StepDiagnostics& d) {
+  const std::vector<unsigned char>& warm = start_.warm;
+  std::vector<unsigned char>& warm_island = start_.warm_island;
+  std::vector<unsigned char>& stays = start_.stays;
+  const double slack = 0.25 * start_.reach;
   free_iterations_.assign(n_, 0);
   std::vector<unsigned char>& solved = start_.solved;
   std::vector<unsigned char>& strayed = start_.strayed;
@@ -173,7 +191,7 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
     std::vector<unsigned char> near2;
     std::vector<BodyLink> links2;
     const double global2 = step_bounds(x_, dq_, movable_, near2, links2);
-    if (reach > 0.0) checked.push_back({x_, dq_, bound_, global2});
+    if (start_.reach > 0.0) start_.checked.push_back({x_, dq_, bound_, global2});
     for (int b = 0; b < n_; ++b) {
       if (solved[b] && (near2[b] || bound_[b] < 1.0)) solved[b] = 0;
       if (warm[b] && (bound_[b] < 1.0 || global2 < 1.0)) warm_island[island(b)] = 0;
@@ -182,48 +200,65 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
   for (int b = 0; b < n_; ++b)
     if (split && movable_[b] && !driven_[b] && !stays[island(b)] && !solved[b])
       stays[island(b)] = 1;  // its free solution failed, or its own move comes near
-  bool all_clear = split;  // every movable body solved alone: no contact pair anywhere
+}
+
+// x_ at the start: islands that do not stay, and warm islands, at x_free_; the others where
+// they are. True when every movable body was solved alone (no contact pair anywhere).
+bool World::place_start(bool split, StepDiagnostics& d) {
+  bool all_clear = split;
   for (int b = 0; b < n_; ++b) {
     if (!movable_[b]) continue;
-    const double bound = std::min(bound_[b], global);
+    const double bound = std::min(bound_[b], start_.global);
     d.min_term_max_step = std::min(d.min_term_max_step, bound);
-    if (!stays[island(b)] || warm_island[island(b)]) x_.segment<12>(12 * b) = x_free_.segment<12>(12 * b);
-    all_clear = all_clear && solved[b];
+    const int r = island(b);
+    if (!start_.stays[r] || start_.warm_island[r]) x_.segment<12>(12 * b) = x_free_.segment<12>(12 * b);
+    all_clear = all_clear && start_.solved[b];
   }
-  // The warm islands' moves were checked with the other bodies moving too: check them once
-  // more against where everything else now starts (only terms with a reach can object); an
-  // island whose move is not clear starts where it is.
+  return all_clear;
+}
+
+// The warm islands' moves were checked with the other bodies moving too: check them once
+// more against where everything else now starts (only terms with a reach can object); an
+// island whose move is not clear starts where it is.
+void World::recheck_warm_islands() {
+  const std::vector<unsigned char>& warm = start_.warm;
+  std::vector<unsigned char>& warm_island = start_.warm_island;
   auto warm_start = [&](int b) { return movable_[b] && warm[b] && warm_island[island(b)]; };
   bool any_warm = false;
   for (int b = 0; b < n_; ++b) any_warm = any_warm || warm_start(b);
-  if (any_warm && reach > 0.0) {
-    VecX from = x_;
-    dq_.setZero(12 * n_);
-    for (int b = 0; b < n_; ++b)
-      if (warm_start(b)) {
-        from.segment<12>(12 * b) = q_.segment<12>(12 * b);
-        dq_.segment<12>(12 * b) = x_.segment<12>(12 * b) - q_.segment<12>(12 * b);
-      }
-    // Often the very move checked first (every moving body is warm: a robot on the ground),
-    // whose bounds stand; otherwise it is checked now.
-    double global3 = 1.0;
-    const auto same = std::find_if(checked.begin(), checked.end(), [&](const CheckedMove& c) {
-      return c.from == from && c.dq == dq_;
-    });
-    if (same != checked.end()) {
-      bound_ = same->bound;
-      global3 = same->global;
-    } else {
-      std::vector<unsigned char> near3;
-      std::vector<BodyLink> links3;
-      global3 = step_bounds(from, dq_, movable_, near3, links3);
+  if (!any_warm || !(start_.reach > 0.0)) return;
+  VecX from = x_;
+  dq_.setZero(12 * n_);
+  for (int b = 0; b < n_; ++b)
+    if (warm_start(b)) {
+      from.segment<12>(12 * b) = q_.segment<12>(12 * b);
+      dq_.segment<12>(12 * b) = x_.segment<12>(12 * b) - q_.segment<12>(12 * b);
     }
-    for (int b = 0; b < n_; ++b)
-      if (warm_start(b) && (bound_[b] < 1.0 || global3 < 1.0)) warm_island[island(b)] = 0;
-    for (int b = 0; b < n_; ++b)
-      if (movable_[b] && warm[b] && !warm_island[island(b)] && stays[island(b)])
-        x_.segment<12>(12 * b) = q_.segment<12>(12 * b);
+  // Often the very move checked first (every moving body is warm: a robot on the ground),
+  // whose bounds stand; otherwise it is checked now.
+  double global3 = 1.0;
+  const auto same = std::find_if(start_.checked.begin(), start_.checked.end(),
+                                 [&](const StartScratch::CheckedMove& c) {
+                                   return c.from == from && c.dq == dq_;
+                                 });
+  if (same != start_.checked.end()) {
+    bound_ = same->bound;
+    global3 = same->global;
+  } else {
+    std::vector<unsigned char> near3;
+    std::vector<BodyLink> links3;
+    global3 = step_bounds(from, dq_, movable_, near3, links3);
   }
+  for (int b = 0; b < n_; ++b)
+    if (warm_start(b) && (bound_[b] < 1.0 || global3 < 1.0)) warm_island[island(b)] = 0;
+  for (int b = 0; b < n_; ++b)
+    if (movable_[b] && warm[b] && !warm_island[island(b)] && start_.stays[island(b)])
+      x_.segment<12>(12 * b) = q_.segment<12>(12 * b);
+}
+
+// The start onto the constraints, the terms at the start (update_clear when no contact pair
+// can exist), and the islands the terms link there.
+void World::start_terms(bool all_clear) {
   project_constraints();  // constrained bodies start where they are: on c = 0
   for (const auto& t : terms_) {
     if (all_clear)
@@ -231,18 +266,22 @@ void World::start_iterate(bool split, double c2, StepDiagnostics& d) {
     else
       t->update(x_);
   }
+  std::vector<BodyLink>& links = start_.links;
   links.clear();
   for (const auto& t : terms_) t->body_links(movable_, links);
   for (const BodyLink& l : links) merge_islands(l.a, l.b);
-  if (!split) return;
-  // Islands with nothing near, at their free solution, with no contact there: solved.
+}
+
+// Islands with nothing near, at their free solution, with no contact there: solved.
+void World::freeze_free_islands() {
   std::vector<unsigned char>& engaged = start_.engaged;
   engaged.assign(n_, 0);
   for (const auto& t : terms_) t->mark_active_bodies(engaged);
   std::vector<unsigned char>& free_island = start_.free_island;
   free_island.assign(n_, 1);
   for (int b = 0; b < n_; ++b)
-    if (movable_[b] && (near[b] || stays[island(b)] || !solved[b] || engaged[b]))
+    if (movable_[b] && (start_.near[b] || start_.stays[island(b)] || !start_.solved[b] ||
+                        engaged[b]))
       free_island[island(b)] = 0;
   for (int b = 0; b < n_; ++b)
     if (movable_[b] && free_island[island(b)]) frozen_[b] = converged_[b] = 1;
