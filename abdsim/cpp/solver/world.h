@@ -222,7 +222,13 @@ class World {
   bool project_constraints();
   void constraint_diagnostics(StepDiagnostics& d) const;
   // islands (union-find over bodies; roots are the smallest index)
-  int island(int b);
+  int island(int b) {  // inline: the Newton loop asks for roots body by body
+    while (parent_[b] != b) {
+      parent_[b] = parent_[parent_[b]];
+      b = parent_[b];
+    }
+    return b;
+  }
   bool merge_islands(int a, int b);
 
   SceneData scene_;

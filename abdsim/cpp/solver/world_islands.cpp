@@ -6,14 +6,6 @@
 
 namespace abd {
 
-int World::island(int b) {
-  while (parent_[b] != b) {
-    parent_[b] = parent_[parent_[b]];
-    b = parent_[b];
-  }
-  return b;
-}
-
 // Joins the islands of a and b (root: the smaller index). The merged island takes the smaller
 // step bound and must iterate again (it is neither converged nor frozen).
 bool World::merge_islands(int a, int b) {
