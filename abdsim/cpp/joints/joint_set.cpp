@@ -81,6 +81,11 @@ void JointSet::values(const VecX& q, std::vector<ConstraintValue>& out) const {
   for (const JointFrame& f : frames_) append_joint_values(f, q, out);
 }
 
+void JointSet::nonlinear_values(const VecX& q, std::vector<ConstraintValue>& out) const {
+  for (std::size_t j = 0; j < frames_.size(); ++j)
+    if (linear_rows_[j].empty()) append_joint_values(frames_[j], q, out);
+}
+
 void JointSet::body_links(std::vector<BodyLink>& links) const {
   for (const JointFrame& f : frames_)
     if (f.spec.parent >= 0) links.push_back({f.spec.parent, f.spec.child});

@@ -20,6 +20,9 @@ class JointSet : public Constraint {
   std::string name() const override { return "joints"; }
   void linearize(const VecX& q, std::vector<ConstraintRow>& rows) const override;
   void values(const VecX& q, std::vector<ConstraintValue>& out) const override;
+  // The values of the prismatic joints on a moving parent (the joints whose rows are not
+  // linear).
+  void nonlinear_values(const VecX& q, std::vector<ConstraintValue>& out) const override;
   void linearize_with_values(const VecX& q, const ConstraintValue* known,
                              std::vector<ConstraintRow>& rows) const override;
   bool linear() const override { return linear_; }

@@ -53,6 +53,12 @@ class Constraint {
     linearize(q, rows);
     for (const ConstraintRow& r : rows) out.push_back({r.body_a, r.body_b, r.value});
   }
+  // Appends the values at q of the rows that are not linear in q, in the order of
+  // linearize(): a Newton step meets the linear rows exactly (to round-off), so after one
+  // only these can be off c = 0. The default: every row's value.
+  virtual void nonlinear_values(const VecX& q, std::vector<ConstraintValue>& out) const {
+    if (!linear()) values(q, out);
+  }
   // Appends the rows at q given their values there (`known`: this constraint's part of what
   // values(q) appended, in its order): a constraint whose gradients are constant copies
   // them and takes the values instead of computing them again. The default linearizes.

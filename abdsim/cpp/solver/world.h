@@ -219,7 +219,9 @@ class World {
   bool warm_guess(int b, double c2, Vec12& x) const;
   void remember_warm_start(double c2);
   // True when x_ moved (the start or iterate was off its constraints beyond round-off).
-  bool project_constraints();
+  // After a Newton step (`newton_step`) only the rows that are not linear are checked: the
+  // step met the linear ones (the KKT solve) to round-off, far below the tolerance.
+  bool project_constraints(bool newton_step = true);
   void constraint_diagnostics(StepDiagnostics& d) const;
   // islands (union-find over bodies; roots are the smallest index)
   int island(int b) {  // inline: the Newton loop asks for roots body by body

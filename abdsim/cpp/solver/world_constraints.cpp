@@ -68,19 +68,27 @@ void World::join_constrained_islands(std::vector<unsigned char>& near) {
 // Moves x_ onto c = 0 with the least mass-weighted change of the movable bodies (the KKT
 // solve with H = M and no force): exact in one solve for linear rows, Newton's method on the
 // rows otherwise.
-bool World::project_constraints() {
+bool World::project_constraints(bool newton_step) {
   projection_rows_valid_ = false;
   if (constraints_.empty()) return false;
   auto moves = [&](int a, int b) { return (a >= 0 && jointed_[a]) || (b >= 0 && jointed_[b]); };
-  // The check needs the values only: the rows (gradients) are built when x_ must move.
+  // The check needs the values only: the rows (gradients) are built when x_ must move. All
+  // of them at the start (kept for the first Newton solve's rows: newton_constraint_rows);
+  // after a Newton step those of the rows that are not linear.
   std::vector<ConstraintValue>& values = constraint_values_;
   values.clear();
   constraint_value_offsets_.clear();
   for (const auto& c : constraints_) {
     constraint_value_offsets_.push_back(values.size());
-    c->values(x_, values);
+    if (newton_step)
+      c->nonlinear_values(x_, values);
+    else
+      c->values(x_, values);
   }
-  constraint_values_x_ = x_;
+  if (newton_step)
+    constraint_values_x_.resize(0);  // not every row's value: not for newton_constraint_rows
+  else
+    constraint_values_x_ = x_;
   double first = 0.0;
   for (const ConstraintValue& v : values)
     if (moves(v.body_a, v.body_b)) first = std::max(first, std::abs(v.value));

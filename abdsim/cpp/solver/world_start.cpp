@@ -259,7 +259,7 @@ void World::recheck_warm_islands() {
 // The start onto the constraints, the terms at the start (update_clear when no contact pair
 // can exist), and the islands the terms link there.
 void World::start_terms(bool all_clear) {
-  project_constraints();  // constrained bodies start where they are: on c = 0
+  project_constraints(false);  // constrained bodies start where they are: on c = 0
   for (const auto& t : terms_) {
     if (all_clear)
       t->update_clear(x_);  // what update() would find, without the proximity query
