@@ -122,3 +122,30 @@ def test_projection_clamps_and_leaves_rotations_alone(name, rng, random_rotation
             clamped = (vec * np.maximum(lam, 0.0)) @ vec.T
             Hp = c.energy(q, KAPPA, VOLUME, project_psd=True).hessian
             np.testing.assert_allclose(Hp, clamped, atol=1e-9 * np.abs(lam).max())
+
+
+def test_projection_of_near_rotations_stretched_and_compressed(rng, random_rotation):
+    """Near rest a body is stretched along some axes and compressed along others (AAᵀ − I
+    indefinite). The projection skips its eigen-solve when no mode can be negative (the
+    "−" modes 4(μ_i + μ_j − 1 − σ_iσ_j) are bounded below by 2(μ_i + μ_j − 2)): there the
+    projected Hessian must be the exact one to the bit, and elsewhere numpy's clamp."""
+    c = abdsim.AffineBodyConstitution("OrthoPotential")
+    skipped = clamped_cases = 0
+    for eps in (1e-6, 1e-4, 1e-2):
+        for stretch in ([1, 0.5, -0.3], [2, 1, -0.5], [1, 1, -1], [1, -0.5, -0.4], [2, -1, -1]):
+            sigma = 1.0 + eps * np.asarray(stretch, dtype=float)
+            for _ in range(3):
+                A = random_rotation(rng) @ np.diag(sigma) @ random_rotation(rng).T
+                q = q_of(A)
+                H = c.energy(q, KAPPA, VOLUME).hessian
+                Hp = c.energy(q, KAPPA, VOLUME, project_psd=True).hessian
+                lam, vec = np.linalg.eigh(H)
+                clamp = (vec * np.maximum(lam, 0.0)) @ vec.T
+                np.testing.assert_allclose(Hp, clamp, atol=1e-9 * np.abs(lam).max())
+                s1, s2 = np.sort(sigma)[:2]
+                if s1**2 + s2**2 - 2.0 > 1e-9:  # every "−" mode clearly positive
+                    assert np.array_equal(Hp, H)
+                    skipped += 1
+                elif lam.min() < -1e-12 * lam.max():
+                    clamped_cases += 1
+    assert skipped == 24 and clamped_cases >= 12

@@ -44,6 +44,26 @@ Mat9 hessian_from(const Mat3& A, const Mat3& AtA, const Mat3& R) {
 
 Mat9 hessian_psd_from(const Mat3& A, const Mat3& AtA, const Mat3& R);
 
+// True when no eigenvalue of ∇²Ψ can be negative, told from M = AᵀA without its eigen-solve
+// (hessian_psd_from lists the modes: 12μ_i − 4 and 4(μ_i + μ_j − 1 ± σ_iσ_j), μ = σ² the
+// eigenvalues of M). As σ_iσ_j ≤ (μ_i + μ_j)/2, the "−" modes are at least 2(μ_i + μ_j − 2),
+// the eigenvalues of 2((tr M − 2) I − M) (k, the third index, takes μ_k off the trace); the
+// "+" modes are larger. So when (tr M − 2) I − M and M − I/3 are both positive definite by
+// a margin, the projection has nothing to remove and returns the exact Hessian as it stands:
+// the same bits, without the eigen-solve. The margin (1e-10 of M's scale) keeps the test
+// clear of that solve's round-off (~1e-16 on μ), so that no mode it would find rounded
+// below zero is skipped. The bound is tight to first order in μ − 1 (a body at rest is
+// clear unless it is compressed along some axis, where the projection does remove modes).
+bool no_negative_modes(const Mat3& AtA) {
+  const double trace = AtA.trace();
+  const double margin = 1e-10 * trace;
+  Mat3 minus_bound = -AtA;
+  minus_bound.diagonal().array() += trace - 2.0 - margin;
+  Mat3 diagonal_modes = AtA;
+  diagonal_modes.diagonal().array() -= 1.0 / 3.0 + margin;
+  return psd3(minus_bound) && psd3(diagonal_modes);
+}
+
 }  // namespace
 
 double ortho_potential(const Mat3& A) {
@@ -121,9 +141,10 @@ double ortho_potential_derivatives(const Mat3& A, bool project, double ws, Vec9*
   const Mat3 R = A * A.transpose() - Mat3::Identity();
   if (g) *g += ws * flatten_rows(4.0 * R * A);
   if (H) {
-    // R PSD: the Hessian is PSD as it stands (see hessian_from); else clamp.
+    // R PSD: the Hessian is PSD as it stands (see hessian_from); nor does it need the clamp
+    // when no mode can be negative; else clamp.
     const Mat3 AtA = A.transpose() * A;
-    if (!project || psd3(R))
+    if (!project || psd3(R) || no_negative_modes(AtA))
       *H += ws * hessian_from(A, AtA, R);
     else
       *H += ws * hessian_psd_from(A, AtA, R);
