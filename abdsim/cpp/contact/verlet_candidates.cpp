@@ -67,8 +67,8 @@ bool VerletCandidates::requery(BroadPhase& broad_phase, const ContactMesh& mesh,
   auto is_stale = [&](int body) { return stale_[size_t(body)] != 0; };
   auto renew = [](auto& kept, auto& fresh, auto drop) {
     kept.erase(std::remove_if(kept.begin(), kept.end(), drop), kept.end());
-    kept.insert(kept.end(), fresh.begin(), fresh.end());
-    std::sort(kept.begin(), kept.end());
+    const auto middle = kept.insert(kept.end(), fresh.begin(), fresh.end());
+    std::inplace_merge(kept.begin(), middle, kept.end());  // both sorted
   };
   renew(list_.point_triangle, found.point_triangle, [&](const std::array<int, 2>& p) {
     return is_stale(mesh.vertex_body[p[0]]) || is_stale(mesh.face_body[p[1]]);
