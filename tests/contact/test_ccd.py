@@ -120,3 +120,25 @@ def test_ground_ccd(contact):
     assert contact.point_ground_ccd(np.array([0, 0, 1.0]), np.array([0, 0, 2.0]), 0.0) == 1.0
     assert contact.point_ground_ccd(np.array([0, 0, 1.0]), np.array([0, 0, 0.5]), 0.0) == 1.0
     assert contact.point_ground_ccd(np.array([0, 0, -1.0]), np.array([0, 0, 2.0]), 0.0) == 0.0
+
+
+@pytest.mark.parametrize("xi", [0.0, 0.05])
+def test_moves_shorter_than_the_first_step_end_at_tmax(contact, rng, xi):
+    # ACCD's first step is (1 − target) gap0 / l_p: a pair whose relative motion l_p stays
+    # below 0.9 of its gap cannot lose 90% of it, so the whole move is safe (t = 1; the
+    # solver's swept pairs are mostly such). Checked against dense sampling of the path.
+    for _ in range(100):
+        x0 = [rng.uniform(-1, 1, 3) for _ in range(4)]
+        for kind in ("point_triangle", "edge_edge"):
+            dist = getattr(contact, f"{kind}_distance")
+            gap0 = np.sqrt(dist(*x0)) - xi
+            if gap0 <= 1e-3:
+                continue
+            step = rng.normal(size=(4, 3))
+            # each |Δx_i − mean| <= 2 max |Δx| <= 0.425 gap0: l_p <= 0.85 gap0
+            step *= 0.85 * gap0 / (4 * np.abs(step).sum(axis=1).max())
+            x1 = [a + d for a, d in zip(x0, step, strict=True)]
+            toi = getattr(contact, f"{kind}_ccd")(*x0, *x1, min_distance=xi)
+            assert toi == 1.0
+            gaps = np.sqrt(dense_min_distance(dist, x0, x1, 1.0)) - xi
+            assert gaps >= 0.1 * gap0

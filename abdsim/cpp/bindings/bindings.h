@@ -8,4 +8,5 @@ void bind_energy(pybind11::module_& m);
 void bind_solver(pybind11::module_& m);
 void bind_contact(pybind11::module_& m);
 void bind_joints(pybind11::module_& m);
+void bind_block_system(pybind11::module_& m);
 }  // namespace abd::bindings

@@ -10,4 +10,5 @@ PYBIND11_MODULE(_core, m) {
   abd::bindings::bind_solver(m);
   abd::bindings::bind_contact(m);
   abd::bindings::bind_joints(m);
+  abd::bindings::bind_block_system(m);
 }

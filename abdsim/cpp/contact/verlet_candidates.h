@@ -19,6 +19,13 @@
 // leave their centre gets a new one, and only its pairs are queried again (the BVH asked
 // for that body alone, the others at their centres) and replace its old ones. A robot's
 // slowly drifting trunk then re-queries the trunk, not every foot on the ground.
+//
+// Far moves. A body whose move is longer than 2δ (no centre covers both its ends) is not
+// listed: the pairs that involve it come from a direct BVH query for those bodies alone
+// (BroadPhaseQuery::bodies, at the real positions), the rest from the list, merged in the
+// broad phase's sorted order. Its listed pairs are ignored until it is re-centred (at its
+// next query, as a stale body). A heap's first Newton iteration of a step moves the falling
+// boxes centimetres, the resting ones less than 2δ: those no longer re-query the whole scene.
 #pragma once
 #include <vector>
 
@@ -46,12 +53,14 @@ class VerletCandidates {
   // Marks in `stale` the bodies with a vertex of x farther than δ from its centre.
   void mark_uncovered(const ContactMesh& mesh, const std::vector<Vec3>& x,
                       std::vector<char>& stale) const;
-  // A new list centred on the move (its midpoint), or, with `stale`, new centres and pairs
-  // for those bodies only; false when some vertex moves farther than 2δ (no list covers it)
-  // or the query overflows.
-  bool rebuild(BroadPhase& broad_phase, const ContactMesh& mesh, const std::vector<Vec3>& x0,
-               const std::vector<Vec3>* x1, const BroadPhaseQuery& q,
-               const std::vector<char>* stale);
+  // Centres body b's vertices on its move (its midpoint); false when some vertex moves
+  // farther than 2δ (no centre covers it; the centres are then x0, a placeholder).
+  bool recentre(const ContactMesh& mesh, int b, const std::vector<Vec3>& x0,
+                const std::vector<Vec3>* x1);
+  // New pairs for the stale_ bodies at the centres, replacing their old ones; false when
+  // the query overflows.
+  bool requery(BroadPhase& broad_phase, const ContactMesh& mesh, const BroadPhaseQuery& q);
+  // The listed pairs within the query's margin at x0 (→ x1), but for those of far_ bodies.
   Candidates filter(const ContactMesh& mesh, const std::vector<Vec3>& x0,
                     const std::vector<Vec3>* x1, const BroadPhaseQuery& q) const;
 
@@ -61,6 +70,9 @@ class VerletCandidates {
   double ground_height_ = 0.0;
   std::vector<Vec3> center_;
   std::vector<char> stale_;  // per body, scratch of query()
+  // Per body: its move at the last query was too long for a centre; its listed pairs are
+  // stale until it is re-centred.
+  std::vector<char> far_;
   Candidates list_;
   int rebuilds_ = 0;
 };

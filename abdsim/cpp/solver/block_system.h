@@ -79,14 +79,20 @@ class BlockSystem {
   std::vector<int> row_start_;  // CSR over offdiag_ after finalize()
 
   // solve_direct's cache: the pattern it was analysed for (free bodies' indices, then the
-  // (row, col) of the lower coupling blocks), the matrix, where each entry of
-  // for_each_lower_entry lives in its value array, and the factorisation.
+  // (row, col) of the lower coupling blocks), the fill-reducing permutation P (AMD, as
+  // SimplicialLDLT<Lower> orders), the matrix P A Pᵀ as that factorisation copies it before
+  // every numeric pass (its upper triangle, in the same entry order), where each entry of
+  // for_each_lower_entry lives in its value array, and the factorisation of that matrix
+  // without a permutation of its own: the same arithmetic, without the copy.
   std::vector<int> index_;
   std::vector<int> pattern_;
   std::vector<int> pattern_scratch_;
-  Eigen::SparseMatrix<double> matrix_;
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm_, perm_inv_;
+  Eigen::SparseMatrix<double> permuted_;
   std::vector<int> slot_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>>
+      ldlt_;
+  VecX b_free_, x_free_;
   bool analysed_ = false;
 };
 

@@ -51,22 +51,28 @@ void for_each_close_leaf_pair(const TreeBoxes& a, const TreeBoxes& b, double mar
     int ia, ib;
     coal::AABB ba, bb;
   };
-  std::vector<Item> stack{{0, 0, a.node(0), b.node(0)}};
+  // Kept between calls (a query descends hundreds of tree pairs); pairs of boxes too far
+  // apart are dropped before they are pushed: the same pairs are emitted in the same order.
+  thread_local std::vector<Item> stack;
+  stack.clear();
+  auto push = [&](int ia, int ib, const coal::AABB& ba, const coal::AABB& bb) {
+    if (boxes_within(ba, bb, margin)) stack.push_back({ia, ib, ba, bb});
+  };
+  push(0, 0, a.node(0), b.node(0));
   while (!stack.empty()) {
     const Item it = stack.back();
     stack.pop_back();
-    if (!boxes_within(it.ba, it.bb, margin)) continue;
     const auto& na = a.tree->getBV(unsigned(it.ia));
     const auto& nb = b.tree->getBV(unsigned(it.ib));
     const bool leaf_a = na.isLeaf(), leaf_b = nb.isLeaf();
     if (leaf_a && leaf_b) {
       emit(na.primitiveId(), nb.primitiveId());
     } else if (leaf_b || (!leaf_a && extent(it.ba) >= extent(it.bb))) {
-      stack.push_back({na.rightChild(), it.ib, a.node(na.rightChild()), it.bb});
-      stack.push_back({na.leftChild(), it.ib, a.node(na.leftChild()), it.bb});
+      push(na.rightChild(), it.ib, a.node(na.rightChild()), it.bb);
+      push(na.leftChild(), it.ib, a.node(na.leftChild()), it.bb);
     } else {
-      stack.push_back({it.ia, nb.rightChild(), it.ba, b.node(nb.rightChild())});
-      stack.push_back({it.ia, nb.leftChild(), it.ba, b.node(nb.leftChild())});
+      push(it.ia, nb.rightChild(), it.ba, b.node(nb.rightChild()));
+      push(it.ia, nb.leftChild(), it.ba, b.node(nb.leftChild()));
     }
   }
 }
