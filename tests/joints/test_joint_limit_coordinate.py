@@ -87,6 +87,14 @@ def test_gradient_and_hessian_match_finite_differences(kind, joint):
     np.testing.assert_allclose(Hs, fd_hess, rtol=0, atol=1e-7)
     if parent < 0:  # the world's half is zero
         assert not np.asarray(H)[12:, :].any() and not np.asarray(gp).any()
+    # The gradient-only path (every Newton assembly and energy evaluation) combines the two
+    # bilinear readings' gradients into one: the same value and gradient to round-off.
+    theta_g, gc_g, gp_g, none = joints.limit_coordinate(joint, q, hessian=False)
+    assert none is None and theta_g == theta
+    np.testing.assert_allclose(np.concatenate([gc_g, gp_g])[: len(idx)], fd_grad, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(
+        np.concatenate([gc_g, gp_g]), np.concatenate([gc, gp]), rtol=0, atol=1e-14
+    )
 
 
 def test_angle_is_the_hinge_joint_position_with_the_parent_turned():

@@ -104,7 +104,7 @@ void bind_joints(py::module_& m) {
           py::arg("q"), "The rows' values at q, in the order of rows().")
       .def(
           "limit_coordinate",
-          [](const JointSet& joints, int joint, const VecX& q) {
+          [](const JointSet& joints, int joint, const VecX& q, bool hessian) {
             if (joint < 0 || joint >= joints.size())
               throw std::invalid_argument("limit_coordinate: joint out of range");
             const JointFrame& f = joints.frame(joint);
@@ -112,13 +112,15 @@ void bind_joints(py::module_& m) {
               throw std::invalid_argument("limit_coordinate: a revolute or prismatic joint");
             Vec12 gc, gp;
             Mat24 H;
-            const double theta =
-                joint_limit_coordinate(f, checked_state(joints, q), &gc, &gp, &H);
-            return py::make_tuple(theta, gc, gp, Eigen::MatrixXd(H));
+            const double theta = joint_limit_coordinate(f, checked_state(joints, q), &gc, &gp,
+                                                        hessian ? &H : nullptr);
+            if (!hessian) return py::tuple(py::make_tuple(theta, gc, gp, py::none()));
+            return py::tuple(py::make_tuple(theta, gc, gp, Eigen::MatrixXd(H)));
           },
-          py::arg("joint"), py::arg("q"),
+          py::arg("joint"), py::arg("q"), py::arg("hessian") = true,
           "The coordinate θ the joint's physics and limits act on (angle in (−π, π], or "
-          "slide), ∂θ/∂q_child, ∂θ/∂q_parent and ∇²θ over [q_child; q_parent] (24x24).");
+          "slide), ∂θ/∂q_child, ∂θ/∂q_parent and ∇²θ over [q_child; q_parent] (24x24; None "
+          "with hessian=False, the gradient-only path every Newton assembly takes).");
 
   py::class_<JointPhysics>(m, "JointPhysics", "A joint's spring, damping, armature, friction "
                                               "loss and limits (MuJoCo's meanings).")

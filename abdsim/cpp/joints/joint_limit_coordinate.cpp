@@ -48,23 +48,35 @@ double revolute(const JointFrame& f, const Vec12& qp, const Vec12& qc, Vec12* gc
   const double x = f.normal_p.dot(v), y = f.normal2_p.dot(v);
   const double theta = std::atan2(y, x);
   if (!gc_out && !gp_out && !H) return theta;
-  Vec12 gxc, gxp, gyc, gyp;
-  Mat24 Hx, Hy;
-  bilinear(f.normal_p, B, f.normal_c, v, world, gxc, gxp, H ? &Hx : nullptr);
-  bilinear(f.normal2_p, B, f.normal_c, v, world, gyc, gyp, H ? &Hy : nullptr);
   // θ = atan2(y, x): θ_x = −y/r², θ_y = x/r²; θ_xx = 2xy/r⁴ = −θ_yy, θ_xy = (y² − x²)/r⁴.
   const double r2 = x * x + y * y;
   const double tx = -y / r2, ty = x / r2;
+  if (!H) {
+    // The gradient alone (every Newton assembly and energy): the two readings' gradients
+    // combine into one, ∂θ/∂A_c,ij = w_i n̄_j and ∂θ/∂A_p,ij = −w_i v_j with
+    // w = Bᵀ(θ_x n̄_p + θ_y b̄), instead of building both and summing them.
+    const Vec3 w = B.transpose() * (tx * f.normal_p + ty * f.normal2_p);
+    for (Vec12* g : {gc_out, gp_out})
+      if (g) g->setZero();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        if (gc_out) (*gc_out)[a_index(i, j)] = w[i] * f.normal_c[j];
+        if (gp_out && !world) (*gp_out)[a_index(i, j)] = -w[i] * v[j];
+      }
+    return theta;
+  }
+  Vec12 gxc, gxp, gyc, gyp;
+  Mat24 Hx, Hy;
+  bilinear(f.normal_p, B, f.normal_c, v, world, gxc, gxp, &Hx);
+  bilinear(f.normal2_p, B, f.normal_c, v, world, gyc, gyp, &Hy);
   if (gc_out) *gc_out = tx * gxc + ty * gyc;
   if (gp_out) *gp_out = tx * gxp + ty * gyp;
-  if (H) {
-    Eigen::Matrix<double, 24, 1> gx, gy;
-    gx << gxc, gxp;
-    gy << gyc, gyp;
-    const double txx = 2.0 * x * y / (r2 * r2), txy = (y * y - x * x) / (r2 * r2);
-    *H = tx * Hx + ty * Hy + txx * (gx * gx.transpose() - gy * gy.transpose()) +
-         txy * (gx * gy.transpose() + gy * gx.transpose());
-  }
+  Eigen::Matrix<double, 24, 1> gx, gy;
+  gx << gxc, gxp;
+  gy << gyc, gyp;
+  const double txx = 2.0 * x * y / (r2 * r2), txy = (y * y - x * x) / (r2 * r2);
+  *H = tx * Hx + ty * Hy + txx * (gx * gx.transpose() - gy * gy.transpose()) +
+       txy * (gx * gy.transpose() + gy * gx.transpose());
   return theta;
 }
 
