@@ -173,13 +173,13 @@ void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) 
 
   // Advances the state over [f0, f1] (fractions of the step) in one piece, or in halves
   // (always in halves above min_depth). A whole step that already failed as a BDF1 step is
-  // not solved again as one piece (the same problem from the same state): it starts in halves.
-  int min_depth = 1;
-  const bool whole_step_failed_as_bdf1 = d.integrator_order == 1;
+  // not solved again as one piece (the same problem from the same state): it starts in halves,
+  // i.e. at min_depth 2 (starting at 1 would make the first refinement round below a repeat
+  // of the first: the same halves, solved again).
+  int min_depth = d.integrator_order == 1 ? 2 : 1;
   auto advance = [&](auto&& self, double f0, double f1, int depth) -> bool {
     const double mid = 0.5 * (f0 + f1);
-    const bool whole = f0 == 0.0 && f1 == 1.0;
-    if (depth < min_depth || (whole && whole_step_failed_as_bdf1))
+    if (depth < min_depth)
       return self(self, f0, mid, depth + 1) && self(self, mid, f1, depth + 1);
     scene_.dt = h * (f1 - f0);
     for (int b = 0; b < n_; ++b)
