@@ -72,7 +72,10 @@ class StepDiagnostics:
             not solve, is redone in halves (only the pieces that fail are halved again, down
             to dt / 1024); the iteration counts then sum over the pieces.
         substep_reason: why the whole step was split ("" when ``substeps == 1``): Newton's
-            failure message, the straight-line motion crossing contact, or a body inverting.
+            failure message, the straight-line motion crossing contact, or a body inverting;
+            followed by "the whole step's straight line still crosses ..." when the pieces
+            each passed but that line did not clear at pieces of dt / 8 everywhere (the step is
+            then accepted).
         joint_violation: largest joint anchor separation (m) at the end of the step (for a
             prismatic joint, its offset across the axis); 0 without joints.
         joint_violation_angle: largest joint axis or frame misalignment (rad).
