@@ -70,7 +70,8 @@ class StepDiagnostics:
             motion from t to t + dt would cross contact (a body passing through another between
             the reported states), that would invert or collapse a body, or that Newton could
             not solve, is redone in halves (only the pieces that fail are halved again, down
-            to dt / 1024); the iteration counts then sum over the pieces.
+            to dt / 1024); the iteration counts then sum over all the work the step cost: the
+            kept pieces, the failed whole step, failed pieces and refinement rounds redone.
         substep_reason: why the whole step was split ("" when ``substeps == 1``): Newton's
             failure message, the straight-line motion crossing contact, or a body inverting;
             followed by "the whole step's straight line still crosses ..." when the pieces

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import abdsim
+from abdsim._native import _core
 
 
 def _falling_box(max_iterations: int, speed: float, dt: float) -> abdsim.World:
@@ -110,3 +111,38 @@ def test_after_a_split_step_bdf2_goes_on_without_a_bdf1_restart():
     t = 0.05 * np.arange(1, 6)
     np.testing.assert_allclose(z, z0 + v0 * t - 0.5 * 9.81 * t * t, rtol=0, atol=1e-13)
     np.testing.assert_allclose(vz, v0 - 9.81 * t, rtol=0, atol=1e-12)
+
+
+class _AssemblyCounter(_core.PythonEnergyTerm):
+    """A zero potential on one body that counts the Newton systems assembled (one Hessian
+    each): an independent count of the Newton iterations a step really took."""
+
+    def __init__(self) -> None:
+        super().__init__(bodies=[0])
+        self.assemblies = 0
+
+    def name(self) -> str:
+        return "assembly counter"
+
+    def value(self, q):
+        return 0.0
+
+    def gradient(self, q):
+        return np.zeros_like(q)
+
+    def hessian(self, q):
+        self.assemblies += 1
+        return []
+
+
+def test_a_split_step_counts_every_newton_iteration_it_took():
+    """The iterations of a split step count all the work: the whole step's failed attempt,
+    pieces that failed and were halved again, and kept pieces (failed pieces were left out,
+    so a step that cost hundreds of iterations could report a handful)."""
+    world = _falling_box(11, 5.0, 0.05)
+    counter = _AssemblyCounter()
+    world.add_term(counter)
+    first = world.step()
+    assert first.substeps > 1
+    assert counter.assemblies > 11 + first.substeps  # the failed whole step, then pieces
+    assert first.newton_iterations == counter.assemblies

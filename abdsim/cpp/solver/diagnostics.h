@@ -62,8 +62,9 @@ struct StepDiagnostics {
   int kinematic_lag_body = -1;
   // Substeps the step was split into (1: solved whole). A step whose straight-line motion
   // would cross contact, invert or flatten a body, or that Newton could not solve, is redone
-  // as 2, 4, 8, ... substeps; the counts above then sum (iterations) or take the extreme
-  // (CCD bound) over them, the rest is the last substep's.
+  // as 2, 4, 8, ... substeps; the counts above then sum (iterations, including those of the
+  // failed whole step, failed pieces and refinement rounds redone finer: all the work the
+  // step cost) or take the extreme (CCD bound) over them, the rest is the last substep's.
   int substeps = 1;
   // Why the whole step was not accepted (empty when substeps == 1): Newton's failure, the
   // straight line crossing contact, or a body inverting.

@@ -66,6 +66,14 @@ void accumulate(const StepDiagnostics& piece, StepDiagnostics& total) {
   }
 }
 
+// The iterations of work that was thrown away (a failed piece, a refinement round redone
+// finer): counted into the step's diagnostics, so that they say what the step cost.
+void add_iterations(const StepDiagnostics& from, StepDiagnostics& to) {
+  to.newton_iterations += from.newton_iterations;
+  to.total_body_iterations += from.total_body_iterations;
+  to.pcg_iterations += from.pcg_iterations;
+}
+
 }  // namespace
 
 std::string World::try_step(StepDiagnostics& d) {
@@ -174,9 +182,10 @@ void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) 
   const double h = scene_.dt;
   SubstepState s{q_, q_dot_, q_prev_, q_dot_prev_, kinematic_target_, has_history_, 0, failure};
   StepDiagnostics total;
-  total.newton_iterations = d.newton_iterations;  // the whole step's failed attempt counts too
-  total.total_body_iterations = d.total_body_iterations;
-  total.pcg_iterations = d.pcg_iterations;
+  // Iterations spent on work that was not kept: the whole step's failed attempt, failed
+  // pieces, refinement rounds redone finer. They count in the step's totals.
+  StepDiagnostics discarded;
+  add_iterations(d, discarded);
 
   // Advances the state over [f0, f1] (fractions of the step) in one piece, or in halves
   // (always in halves above min_depth). A whole step that already failed as a BDF1 step is
@@ -207,6 +216,7 @@ void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) 
       return true;
     }
     s.last_failure = why;
+    add_iterations(piece, discarded);
     if (depth == kMaxDepth) return false;
     return self(self, f0, mid, depth + 1) && self(self, mid, f1, depth + 1);
   };
@@ -231,6 +241,7 @@ void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) 
     scene_.dt = h;
     kinematic_target_ = s.target;
     if (ok) {
+      add_iterations(discarded, total);
       restart_history_after_pieces(s.last_piece);
       total.substeps = s.pieces;
       total.substep_reason = failure + note;
@@ -242,6 +253,11 @@ void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) 
     q_prev_ = s.q_prev0;
     q_dot_prev_ = s.q_dot_prev0;
     has_history_ = s.has_history0;
+    StepDiagnostics round;  // the committed pieces of this round, now undone
+    round.newton_iterations = total.newton_iterations - start.newton_iterations;
+    round.total_body_iterations = total.total_body_iterations - start.total_body_iterations;
+    round.pcg_iterations = total.pcg_iterations - start.pcg_iterations;
+    add_iterations(round, discarded);
     total = start;
     if (s.pieces == 0 || s.last_failure.rfind("the pieces'", 0) != 0) break;
   }
