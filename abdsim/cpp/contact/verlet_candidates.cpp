@@ -25,6 +25,13 @@ coal::AABB point_box(int v, const std::vector<Vec3>& x0, const std::vector<Vec3>
   return box;
 }
 
+// Appends `more` to `into`, both sorted, keeping the whole sorted (the broad phase's order).
+template <class Pairs>
+void merge_sorted(Pairs& into, const Pairs& more) {
+  const auto middle = into.insert(into.end(), more.begin(), more.end());
+  std::inplace_merge(into.begin(), middle, into.end());
+}
+
 }  // namespace
 
 void VerletCandidates::mark_uncovered(const ContactMesh& mesh, const std::vector<Vec3>& x,
@@ -65,10 +72,9 @@ bool VerletCandidates::requery(BroadPhase& broad_phase, const ContactMesh& mesh,
   // The stale bodies' old pairs give way to their new ones (no pair is in both: the new
   // ones involve a stale body, the kept ones none), in the broad phase's sorted order.
   auto is_stale = [&](int body) { return stale_[size_t(body)] != 0; };
-  auto renew = [](auto& kept, auto& fresh, auto drop) {
+  auto renew = [](auto& kept, const auto& fresh, auto drop) {
     kept.erase(std::remove_if(kept.begin(), kept.end(), drop), kept.end());
-    const auto middle = kept.insert(kept.end(), fresh.begin(), fresh.end());
-    std::inplace_merge(kept.begin(), middle, kept.end());  // both sorted
+    merge_sorted(kept, fresh);
   };
   renew(list_.point_triangle, found.point_triangle, [&](const std::array<int, 2>& p) {
     return is_stale(mesh.vertex_body[p[0]]) || is_stale(mesh.face_body[p[1]]);
@@ -125,13 +131,9 @@ Candidates VerletCandidates::query(BroadPhase& broad_phase, const ContactMesh& m
     own.bodies = &far_;
     const Candidates found = direct(own);
     if (found.overflow) return direct(q);  // the whole query says where (or fits after all)
-    auto merge = [](auto& into, const auto& more) {
-      const auto middle = into.insert(into.end(), more.begin(), more.end());
-      std::inplace_merge(into.begin(), middle, into.end());
-    };
-    merge(out.point_triangle, found.point_triangle);
-    merge(out.edge_edge, found.edge_edge);
-    merge(out.point_ground, found.point_ground);
+    merge_sorted(out.point_triangle, found.point_triangle);
+    merge_sorted(out.edge_edge, found.edge_edge);
+    merge_sorted(out.point_ground, found.point_ground);
   }
   return out;
 }

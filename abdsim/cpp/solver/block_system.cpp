@@ -198,11 +198,11 @@ bool BlockSystem::solve_direct(const VecX& rhs, VecX& x) {
   b_free_.resize(12 * m);
   for (int b = 0; b < n_; ++b)
     if (!fixed_[b]) b_free_.segment<12>(12 * index_[b]) = rhs.segment<12>(12 * b);
-  x_free_ = perm_ * b_free_;
-  b_free_ = ldlt_.solve(x_free_);  // P A Pᵀ (P x) = P b
-  if (ldlt_.info() != Eigen::Success || !b_free_.allFinite())
+  permuted_b_ = perm_ * b_free_;
+  permuted_x_ = ldlt_.solve(permuted_b_);  // P A Pᵀ (P x) = P b
+  if (ldlt_.info() != Eigen::Success || !permuted_x_.allFinite())
     throw SolverError("sparse LDLT solve of the Newton system failed (singular matrix?)");
-  x_free_ = perm_inv_ * b_free_;
+  x_free_ = perm_inv_ * permuted_x_;
   x.setZero(12 * n_);
   for (int b = 0; b < n_; ++b)
     if (!fixed_[b]) x.segment<12>(12 * b) = x_free_.segment<12>(12 * index_[b]);

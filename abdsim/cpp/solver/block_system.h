@@ -92,7 +92,8 @@ class BlockSystem {
   std::vector<int> slot_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>>
       ldlt_;
-  VecX b_free_, x_free_;
+  VecX b_free_, x_free_;            // the free bodies' right-hand side and solution
+  VecX permuted_b_, permuted_x_;    // the same in the permuted order (P b, P x)
   bool analysed_ = false;
 };
 
