@@ -21,6 +21,7 @@ ActiveSet select_active(const ContactMesh& mesh, const ContactTable& table,
     if (g.infeasible && set.infeasible < 0) set.infeasible = int(set.stencils.size());
     set.min_gap = std::min(set.min_gap, gap);
     set.stencils.push_back(s);
+    set.distances.push_back({g.d2, g.infeasible});
   };
   auto with_damping = [](ContactStencil s, const ContactRule& r) {
     s.damping = r.damping;

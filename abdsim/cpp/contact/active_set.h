@@ -17,6 +17,9 @@ struct ActiveSet {
   VecX q;                                // the state it describes
   std::vector<Vec3> x;                   // world positions of every vertex at q
   std::vector<ContactStencil> stencils;  // in candidate order: point–triangle, edge–edge, ground
+  // Each stencil's squared distance at x and feasibility, as selecting it found them: the
+  // energy at this q reuses them instead of computing every distance a second time.
+  std::vector<StencilDistance> distances;
   // Smallest gap d − ξ among the stencils (+inf without any); negative or zero if infeasible.
   double min_gap = std::numeric_limits<double>::infinity();
   int infeasible = -1;                   // index of the first infeasible stencil, or -1

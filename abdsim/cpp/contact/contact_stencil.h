@@ -39,6 +39,12 @@ struct StencilGeometry {
   Mat3x2 basis;             // tangent basis of the contact (want_basis)
 };
 
+// What the barrier's value needs of a StencilGeometry (stencil_barrier_value).
+struct StencilDistance {
+  double d2 = 0.0;
+  bool infeasible = false;
+};
+
 StencilGeometry stencil_geometry(const ContactStencil& s, const std::vector<Vec3>& x,
                                  double ground_height, int order, bool want_basis = false);
 

@@ -305,7 +305,8 @@ double IpcContactTerm::barrier_value(const VecX& q) const {
   if (set.infeasible >= 0) return std::numeric_limits<double>::infinity();
   const BarrierParams p = barrier_params(kappa_);
   double sum = 0.0;
-  for (const ContactStencil& s : set.stencils) sum += stencil_barrier(s, set.x, p, 0).value;
+  for (size_t i = 0; i < set.stencils.size(); ++i)
+    sum += stencil_barrier_value(set.stencils[i], set.distances[i], set.x, p);
   return sum;
 }
 
@@ -438,11 +439,12 @@ void IpcContactTerm::add_body_values(const VecX& q, const std::vector<unsigned c
     if (b[1] >= 0 && b[0] != b[1] && movable[b[0]] && movable[b[1]]) links.push_back({b[0], b[1]});
   };
   const BarrierParams p = barrier_params(kappa_);
-  for (const ContactStencil& s : set.stencils) {
+  for (size_t i = 0; i < set.stencils.size(); ++i) {
+    const ContactStencil& s = set.stencils[i];
     const std::array<int, 2> b{s.bodies[0], s.bodies[1]};
     const int o = owner(b);
     link(b);
-    if (o >= 0) per_body[o] += stencil_barrier(s, set.x, p, 0).value;
+    if (o >= 0) per_body[o] += stencil_barrier_value(s, set.distances[i], set.x, p);
   }
   for (const FrictionStencil& f : friction_) {
     const std::array<int, 2> b = stencil_bodies(f.vertices, f.nv);

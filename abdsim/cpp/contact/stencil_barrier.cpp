@@ -70,6 +70,10 @@ StencilEnergy stencil_barrier(const ContactStencil& s, const std::vector<Vec3>& 
   if (order >= 1) e.grad = StencilVec::Zero(n);
   if (order >= 2) e.hess = StencilMat::Zero(n, n);
   const StencilGeometry g = stencil_geometry(s, x, p.ground_height, order);
+  if (order < 1) {
+    e.value = stencil_barrier_value(s, {g.d2, g.infeasible}, x, p);
+    return e;
+  }
   if (g.infeasible) {
     e.value = std::numeric_limits<double>::infinity();
     return e;
@@ -80,7 +84,6 @@ StencilEnergy stencil_barrier(const ContactStencil& s, const std::vector<Vec3>& 
   const double b = barrier(g.d2, p.d_hat, s.xi);
   const Mollifier m = stencil_mollifier(s, x, order);
   e.value = p.kappa * m.value * b;
-  if (order < 1) return e;
   const double b1 = barrier_first_derivative(g.d2, p.d_hat, s.xi);
   e.grad = p.kappa * m.value * b1 * g.grad;
   if (m.active) e.grad += p.kappa * b * m.grad;
@@ -101,6 +104,14 @@ StencilEnergy stencil_barrier(const ContactStencil& s, const std::vector<Vec3>& 
     }
   }
   return e;
+}
+
+double stencil_barrier_value(const ContactStencil& s, const StencilDistance& d,
+                             const std::vector<Vec3>& x, const BarrierParams& p) {
+  if (d.infeasible) return std::numeric_limits<double>::infinity();
+  const double d_reach = p.d_hat + s.xi;
+  if (d.d2 >= d_reach * d_reach) return 0.0;
+  return p.kappa * stencil_mollifier(s, x, 0).value * barrier(d.d2, p.d_hat, s.xi);
 }
 
 double stencil_normal_force(const ContactStencil& s, const StencilGeometry& g,

@@ -26,6 +26,11 @@ struct StencilEnergy {
 StencilEnergy stencil_barrier(const ContactStencil& s, const std::vector<Vec3>& x,
                               const BarrierParams& p, int order);
 
+// The value of stencil_barrier(s, x, p, 0) from the stencil's distance at x, already known
+// (ActiveSet::distances): the same number without computing the distance again.
+double stencil_barrier_value(const ContactStencil& s, const StencilDistance& d,
+                             const std::vector<Vec3>& x, const BarrierParams& p);
+
 // IPC's normal force magnitude λ = −∂(κ m b)/∂d at the current positions (0 when inactive),
 // the quantity friction lags at the start of a step.
 double stencil_normal_force(const ContactStencil& s, const StencilGeometry& g,
