@@ -69,7 +69,6 @@ JointForceTerm::JointForceTerm(std::shared_ptr<const JointSet> joints, const Sce
     e.inertia = child_inertia(f, scene, q0) + p.armature;
     elements_.push_back(e);
   }
-  cache_.resize(elements_.size());
   // Each element's actuators, in actuator order (energy() visits them per element, every
   // evaluation: a scan of all actuators per element was quadratic in the joints).
   actuators_of_.assign(elements_.size(), {});
@@ -95,20 +94,8 @@ void JointForceTerm::set_joint_forces(const VecX& tau) {
 }
 
 double JointForceTerm::theta_of(const Element& e, const VecX& q, Vec12* gc, Vec12* gp) const {
-  const JointFrame& f = joints_->frame(e.joint);
-  CoordinateCache& cached = cache_[static_cast<std::size_t>(&e - elements_.data())];
-  const Vec12 qc = body_q(q, f.spec.child), qp = body_q(q, f.spec.parent);
-  if (!cached.valid || cached.qc != qc || cached.qp != qp) {
-    // With the gradient always: a value is mostly followed by derivatives at the same state.
-    cached.theta = joint_limit_coordinate(f, q, &cached.gc, &cached.gp);
-    cached.qc = qc;
-    cached.qp = qp;
-    cached.valid = true;
-  }
-  if (gc) *gc = cached.gc;
-  if (gp) *gp = cached.gp;
-  double theta = cached.theta;
-  if (f.spec.kind == JointKind::kRevolute) {  // unwrap against the step start
+  double theta = joints_->coordinate(e.joint, q, gc, gp);  // cached per state (JointSet)
+  if (joints_->frame(e.joint).spec.kind == JointKind::kRevolute) {  // unwrap against the step start
     const double two_pi = 2.0 * M_PI;
     theta += two_pi * std::round((e.theta_t - theta) / two_pi);
   }
@@ -119,11 +106,17 @@ void JointForceTerm::begin_step(const StepContext& ctx) {
   const double h = ctx.dt;
   c_ = std::sqrt(ctx.potential_scale);
   const bool bdf2 = c_ < 0.99 * h;
-  const VecX angles = joints_->positions(ctx.q_t);  // unwrapped at the step start
+  // θ at the step start: hinge angles unwrapped as joint positions read them (the last
+  // end_step's, at its state: a step begins where the last one ended); a slide's coordinate
+  // needs no unwrapping (theta_of reads it as it is, whatever theta_t holds).
+  const bool at_last_end = joints_->at_last_end_step(ctx.q_t);
+  const VecX angles = at_last_end ? VecX() : joints_->positions(ctx.q_t);
   for (Element& e : elements_) {
     const JointFrame& f = joints_->frame(e.joint);
     Vec12 gc, gp;
-    e.theta_t = angles[joints_->q_offset(e.joint)];
+    if (f.spec.kind == JointKind::kRevolute)
+      e.theta_t = at_last_end ? joints_->last_angle(e.joint)
+                              : angles[joints_->q_offset(e.joint)];
     const double theta = theta_of(e, ctx.q_t, &gc, &gp);
     double rate = gc.dot(ctx.q_dot_t.segment<12>(12 * f.spec.child));
     if (f.spec.parent >= 0) rate += gp.dot(ctx.q_dot_t.segment<12>(12 * f.spec.parent));

@@ -106,6 +106,7 @@ class JointForceTerm : public EnergyTerm {
     bool at_limit_start = false, at_limit = false;  // a barrier active (d < d̂)
   };
   bool at_limit(const Element& e, double theta) const;
+  // θ at q, unwrapped against theta_t, and its gradients (JointSet::coordinate's cache).
   double theta_of(const Element& e, const VecX& q, Vec12* gc, Vec12* gp) const;
   // E and its first two derivatives in θ; limit_d1 (if non-null): the limit barriers' share
   // of d1 (their curvature term needs it). False where θ is outside the limits.
@@ -117,18 +118,6 @@ class JointForceTerm : public EnergyTerm {
   void assemble(const VecX& q, double scale, VecX* gradient, std::vector<BodyBlock>* blocks,
                 std::vector<HessianRow>* rows) const;
 
-  // The last coordinate computed per element and the two bodies' states it was computed
-  // at: a step evaluates the joints at the same state several times (Π at the start and its
-  // derivatives there, Π at the accepted trial and the step-end energies, the next step's
-  // start). A hit returns the same bits as computing again (a function of these states
-  // alone). Evaluations are serial (the solver calls terms from one thread).
-  struct CoordinateCache {
-    bool valid = false;
-    Vec12 qc, qp;
-    double theta = 0.0;  // joint_limit_coordinate's value (before unwrapping)
-    Vec12 gc, gp;
-  };
-  mutable std::vector<CoordinateCache> cache_;
 
   std::shared_ptr<const JointSet> joints_;
   std::vector<JointPhysics> physics_;

@@ -7,7 +7,9 @@
 
 #include "joints/joint_coordinates.h"
 #include "joints/joint_frame.h"
+#include "joints/joint_limit_coordinate.h"
 #include "joints/joint_rows.h"
+#include "joints/joint_state.h"
 
 namespace abd {
 
@@ -46,6 +48,7 @@ JointSet::JointSet(const SceneData& scene, const VecX& q0, const std::vector<Joi
     linear_ = linear_ && joint_rows_linear(f);
   }
   last_angle_.assign(frames_.size(), 0.0);
+  coordinate_cache_.resize(frames_.size());
   reset(q0);
 }
 
@@ -105,16 +108,46 @@ ConstraintViolation JointSet::violation(const VecX& q) const {
   return worst.result();
 }
 
-// The hinge angle nearest to the last one (no wrap at ±π, as MuJoCo's hinge qpos).
-double JointSet::unwrapped_angle(int j, const VecX& q) const {
-  const double a = hinge_angle(frames_[j], q);
+double JointSet::coordinate(int j, const VecX& q, Vec12* grad_child, Vec12* grad_parent) const {
+  const JointFrame& f = frames_[j];
+  CoordinateCache& cached = coordinate_cache_[j];
+  const Vec12 qc = body_q(q, f.spec.child), qp = body_q(q, f.spec.parent);
+  if (!cached.valid || cached.qc != qc || cached.qp != qp) {
+    // With the gradient always: a value is mostly followed by derivatives at the same state.
+    cached.value = joint_limit_coordinate(f, q, &cached.gc, &cached.gp);
+    cached.qc = qc;
+    cached.qp = qp;
+    cached.valid = true;
+  }
+  if (grad_child) *grad_child = cached.gc;
+  if (grad_parent) *grad_parent = cached.gp;
+  return cached.value;
+}
+
+bool JointSet::cached_coordinate(int j, const VecX& q, double& value) const {
+  const JointFrame& f = frames_[j];
+  const CoordinateCache& cached = coordinate_cache_[j];
+  if (!cached.valid || cached.qc != body_q(q, f.spec.child) ||
+      cached.qp != body_q(q, f.spec.parent))
+    return false;
+  value = cached.value;
+  return true;
+}
+
+// The hinge angle nearest to the last one (no wrap at ±π, as MuJoCo's hinge qpos). At the
+// state the solver last evaluated the joint at (the step's end, where the joint forces'
+// step-end energy read it) the cached coordinate serves (`cached`: end_step, within the
+// step): the same bits as hinge_angle.
+double JointSet::unwrapped_angle(int j, const VecX& q, bool cached) const {
+  double a;
+  if (!cached || !cached_coordinate(j, q, a)) a = hinge_angle(frames_[j], q);
   const double two_pi = 2.0 * M_PI;
   return a + two_pi * std::round((last_angle_[j] - a) / two_pi);
 }
 
 void JointSet::end_step(const VecX& q, const VecX& /*q_dot*/) {
   for (int j = 0; j < size(); ++j)
-    if (frames_[j].spec.kind == JointKind::kRevolute) last_angle_[j] = unwrapped_angle(j, q);
+    if (frames_[j].spec.kind == JointKind::kRevolute) last_angle_[j] = unwrapped_angle(j, q, true);
   last_q_ = q;
 }
 
@@ -126,10 +159,10 @@ void JointSet::reset(const VecX& q) {
 VecX JointSet::positions(const VecX& q) const {
   VecX out = VecX::Zero(nq_);
   // At the last end_step's state, unwrapping the angle again gives last_angle_ itself.
-  const bool at_last = last_q_.size() == q.size() && last_q_ == q;
+  const bool at_last = at_last_end_step(q);
   for (int j = 0; j < size(); ++j) {
     if (frames_[j].spec.kind == JointKind::kRevolute)  // (joint_position's angle, unwrapped)
-      out[q_offset_[j]] = at_last ? last_angle_[j] : unwrapped_angle(j, q);
+      out[q_offset_[j]] = at_last ? last_angle_[j] : unwrapped_angle(j, q, false);
     else
       joint_position(frames_[j], q, out.data() + q_offset_[j]);
   }

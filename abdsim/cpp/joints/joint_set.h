@@ -41,11 +41,24 @@ class JointSet : public Constraint {
   // Joint coordinates at q (hinge angles unwrapped against the last end_step).
   VecX positions(const VecX& q) const;
   VecX velocities(const VecX& q, const VecX& q_dot) const;
+  // Whether q is the state of the last end_step, where positions() reads last_angle().
+  bool at_last_end_step(const VecX& q) const { return last_q_.size() == q.size() && last_q_ == q; }
+  // Joint j's unwrapped hinge angle at the last end_step (0 for other joints).
+  double last_angle(int j) const { return last_angle_[j]; }
   // Restarts the unwrapping from q (after a teleport).
   void reset(const VecX& q);
+  // The coordinate of 1-dof joint j at q (joint_limit_coordinate's value, not unwrapped) and
+  // its gradients (if non-null), kept per joint with the two bodies' states it was computed
+  // at: a step evaluates each joint at the same state several times (the joint forces' Π
+  // and derivatives at an iterate, the step-end energies, this set's end_step and the next
+  // step's start). A hit is proved by those states' bits alone and returns what computing
+  // again would (the coordinate is a function of them; its value does not depend on
+  // whether gradients are asked for). For the solver's serial calls within a step only:
+  // positions() (which Python may call) does not use it.
+  double coordinate(int j, const VecX& q, Vec12* grad_child, Vec12* grad_parent) const;
 
  private:
-  double unwrapped_angle(int j, const VecX& q) const;
+  double unwrapped_angle(int j, const VecX& q, bool cached) const;
 
   std::vector<JointFrame> frames_;
   // Per joint with linear rows: its rows (their gradients are constant), which linearize()
@@ -56,6 +69,15 @@ class JointSet : public Constraint {
   // The state of the last end_step: positions() there are last_angle_ to the bit (the next
   // step begins there and reads them again).
   VecX last_q_;
+  struct CoordinateCache {
+    bool valid = false;
+    Vec12 qc, qp;
+    double value = 0.0;
+    Vec12 gc, gp;
+  };
+  mutable std::vector<CoordinateCache> coordinate_cache_;  // per joint (coordinate())
+  // The cached value of joint j when it was computed at q's states (else false).
+  bool cached_coordinate(int j, const VecX& q, double& value) const;
   int nq_ = 0, nv_ = 0;
   bool linear_ = true;
 };
