@@ -182,6 +182,13 @@ class World {
   void start_terms(bool all_clear);
   void freeze_free_islands();
   void lag_at_start();
+  // world_friction_phases.cpp: the solve before a friction refresh converges its lagged
+  // bodies to the settings' tolerances only (their tight ones saved); each iteration notes
+  // whether a body's step also met its tight tolerances; after the refresh, the bodies it
+  // changed and those that did not meet them iterate again (true when any does).
+  void loosen_lagged_tolerances();
+  void note_tight_convergence(int b, double st, double sa);
+  bool retighten_after_refresh(bool changed);
   void balance_term_stiffness(double c2, const VecX& grad_bodies);
   // world_line_search.cpp: Armijo backtracking per island from x_ along dq_, each island
   // from its alpha_ (its step bound) down by halves; the accepted iterate is left in trial_
@@ -279,6 +286,11 @@ class World {
   std::vector<int> parent_;
   std::vector<std::uint8_t> frozen_, converged_, pending_, halved_;
   VecX tol_translation_, tol_affine_;  // this step's Newton tolerances per body
+  // Before the friction refresh: the tolerances the lagged bodies (loose_) converge to after
+  // it, and the bodies whose last step did not meet them yet (world_friction_phases.cpp).
+  VecX tight_translation_, tight_affine_;
+  std::vector<unsigned char> loose_, unfinished_;
+  bool loose_phase_ = false;
   std::vector<double> radius_;          // largest distance of a vertex from the centre of mass
   std::vector<double> extent_;          // largest |x̄| of a vertex
   std::vector<int> free_iterations_;    // per-body Newton iterations of this step's free solves

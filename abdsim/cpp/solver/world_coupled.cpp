@@ -125,6 +125,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
   for (int b = 0; b < n_; ++b) movable_[b] = !constrained_[b];
   start_iterate(split, c2, d);
   lag_at_start();
+  loosen_lagged_tolerances();
 
   // 3. Newton, island by island in lockstep.
   std::vector<BodyLink>& links = links_;
@@ -180,20 +181,10 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       --refreshes_left;
       bool changed = false;
       for (const auto& t : terms_) changed = t->refresh_lagged(x_) || changed;
-      if (changed) {
-        // The bodies the refresh changed iterate again, to the tolerances of the new
-        // lagged state.
-        std::vector<unsigned char> lagged(n_, 0);
-        for (const auto& t : terms_) t->mark_lagged_bodies(lagged);
-        VecX tol_t = tol_translation_, tol_a = tol_affine_;
-        for (const auto& t : terms_) t->limit_tolerances(tol_t, tol_a, radius_);
-        for (int b = 0; b < n_; ++b) {
-          if (!lagged[b] || !movable_[b]) continue;
-          tol_translation_[b] = tol_t[b];
-          tol_affine_[b] = tol_a[b];
-          frozen_[island(b)] = converged_[island(b)] = 0;
-        }
-        energies_at_x();
+      // The bodies the refresh changed, and those only converged to the first solve's
+      // looser tolerances, iterate again (world_friction_phases.cpp).
+      if (retighten_after_refresh(changed)) {
+        if (changed) energies_at_x();
         for (int b = 0; b < n_; ++b) {
           inactive[b] = !(movable_[b] && !frozen_[island(b)]);
           n_active += !inactive[b];
@@ -299,6 +290,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       island_st[r] = std::max(island_st[r], st);
       island_sa[r] = std::max(island_sa[r], sa);
       island_ratio[r] = std::max({island_ratio[r], st / tol_translation_[b], sa / tol_affine_[b]});
+      note_tight_convergence(b, st, sa);
       d.step_translation = std::max(d.step_translation, st);
       d.step_affine = std::max(d.step_affine, sa);
     }

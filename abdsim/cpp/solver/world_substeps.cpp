@@ -92,11 +92,17 @@ std::string World::try_step(StepDiagnostics& d) {
 
 // The coupled solve holds bodies near contact to tighter tolerances than the settings (scaled
 // to their size): a "did not converge" message quoting the settings' tolerances would show a
-// last step that already meets them. Say which tolerance was actually applied.
+// last step that already meets them. Say which tolerance was actually applied (or will be
+// after the friction refresh: the solve before it holds lagged bodies to 10 times looser ones).
 std::string World::applied_tolerances() const {
   if (tol_translation_.size() != n_ || tol_affine_.size() != n_ || n_ == 0) return "";
+  VecX tol_t = tol_translation_, tol_a = tol_affine_;
+  if (tight_translation_.size() == n_ && tight_affine_.size() == n_) {
+    tol_t = tol_t.cwiseMin(tight_translation_);
+    tol_a = tol_a.cwiseMin(tight_affine_);
+  }
   Eigen::Index bt = 0, ba = 0;
-  const double t = tol_translation_.minCoeff(&bt), a = tol_affine_.minCoeff(&ba);
+  const double t = tol_t.minCoeff(&bt), a = tol_a.minCoeff(&ba);
   if (t >= settings_.tol_translation && a >= settings_.tol_affine) return "";
   std::ostringstream os;
   os << "; the tolerances applied to bodies near contact are tighter than the settings: "
