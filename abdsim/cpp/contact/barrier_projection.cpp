@@ -7,9 +7,11 @@ namespace abd::contact {
 
 bool project_barrier_hessian(const StencilGeometry& g, double c2, double c1, StencilMat& out) {
   using Vec4 = Eigen::Vector4d;
-  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 5, 5>;
+  // Fixed 5x5 (the eigen-solver's fixed-size code is much faster than its dynamic one):
+  // with nb < 2 the unused rows and columns are zero, their eigenvalues 0, dropped below.
+  using Small = Eigen::Matrix<double, 5, 5>;
   if (g.nb < 0 || g.w.size() != 4) return false;
-  const int nb = g.nb, n = 3 + nb;
+  const int nb = g.nb;
   const Vec4 w = g.w;
   const double w_norm = w.norm(), rho = g.r.norm();
   if (!(w_norm > 0.0) || !(rho > 0.0) || !std::isfinite(w_norm) || !std::isfinite(rho))
@@ -37,7 +39,7 @@ bool project_barrier_hessian(const StencilGeometry& g, double c2, double c1, Ste
   }
 
   // H = B M Bᵀ with B = [w ⊗ e_i, C_kᵀ] = Q R, M = diag(4 c2 r rᵀ + 2 c1 I₃, −2 c1 U⁻¹).
-  Small R = Small::Zero(n, n), M = Small::Zero(n, n);
+  Small R = Small::Zero(), M = Small::Zero();
   R.topLeftCorner<3, 3>().diagonal().setConstant(w_norm);
   for (int k = 0; k < nb; ++k) {
     R.block<3, 1>(0, 3 + k) = w_hat.dot(g.a.col(k)) * g.r + w_norm * g.u.col(k);
@@ -45,16 +47,16 @@ bool project_barrier_hessian(const StencilGeometry& g, double c2, double c1, Ste
   }
   M.topLeftCorner<3, 3>() = 4.0 * c2 * g.r * g.r.transpose();
   M.topLeftCorner<3, 3>().diagonal().array() += 2.0 * c1;
-  if (nb > 0) M.bottomRightCorner(nb, nb) = -2.0 * c1 * g.U_inv.topLeftCorner(nb, nb);
+  if (nb > 0) M.block(3, 3, nb, nb) = -2.0 * c1 * g.U_inv.topLeftCorner(nb, nb);
   Small S = R * M * R.transpose();
   S = 0.5 * (S + S.transpose());
 
   Eigen::SelfAdjointEigenSolver<Small> eig(S);
   if (eig.info() != Eigen::Success) return false;
   // Q V √λ₊ column by column: Q's columns are ŵ ⊗ e_i and q̃_l ⊗ r̂.
-  Eigen::Matrix<double, 12, Eigen::Dynamic, 0, 12, 5> Y(12, n);
+  Eigen::Matrix<double, 12, 5> Y;
   int kept = 0;
-  for (int j = 0; j < n; ++j) {
+  for (int j = 0; j < 5; ++j) {
     const double lambda = eig.eigenvalues()[j];
     if (!(lambda > 0.0)) continue;
     const auto v = eig.eigenvectors().col(j);
