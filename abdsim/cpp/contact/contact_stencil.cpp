@@ -28,7 +28,14 @@ void fill_from(const Distance& d, const stencil::Piece& piece, const std::array<
   g.d2 = d.d2;
   g.w = d.w;
   if (order >= 1) g.grad = d.grad;
-  if (order >= 2) g.hess = d.hess;
+  if (order >= 2) {
+    g.hess = d.hess;
+    g.r = d.r;
+    g.nb = d.nb;
+    g.a = d.a;
+    g.u = d.u;
+    g.U_inv = d.U_inv;
+  }
   if (want_basis) g.basis = piece_basis(piece, y);
 }
 

@@ -35,6 +35,13 @@ struct StencilGeometry {
   bool infeasible = false;  // inside the thickness, or (ground) at or below the plane
   StencilVec grad;          // ∂d²/∂x over the stencil's 3·nv coordinates (order >= 1)
   StencilMat hess;          // ∂²d²/∂x² (order >= 2)
+  // hess's factors (order >= 2, not the ground; affine_distance.h): hess = 2 (w wᵀ ⊗ I₃)
+  // − 2 Cᵀ U⁻¹ C with row k of C = a_k ⊗ r + w ⊗ u_k, k < nb (the piece's parameters).
+  Vec3 r;
+  int nb = -1;  // -1: no factors (the ground, or order < 2)
+  Eigen::Matrix<double, 4, 2> a;
+  Eigen::Matrix<double, 3, 2> u;
+  Eigen::Matrix2d U_inv;
   StencilWeights w;         // closest-point weights: r = Σ w_i x_i joins the closest points
   Mat3x2 basis;             // tangent basis of the contact (want_basis)
 };

@@ -156,53 +156,28 @@ bool BlockSystem::solve_direct(const VecX& rhs, VecX& x) {
     }
   const bool analyse = !analysed_ || pattern_scratch_ != pattern_;
   if (analyse) {
-    using Triplet = Eigen::Triplet<double>;
     analysed_ = false;
-    std::vector<Triplet> triplets;
-    triplets.reserve(static_cast<std::size_t>(m) * 78 + offdiag_.size() * 144 / 2);
-    for_each_lower_entry(index_, [&](int r, int c, double) {
-      // The value is the entry's own number, to find where it lands below.
-      triplets.emplace_back(r, c, double(triplets.size()));
-    });
-    Eigen::SparseMatrix<double> lower(12 * m, 12 * m);
-    lower.setFromTriplets(triplets.begin(), triplets.end());
-    // The fill-reducing ordering exactly as SimplicialLDLT<Lower, AMDOrdering> computes it
-    // (on the full symmetric matrix; AMD returns P⁻¹).
-    {
-      Eigen::SparseMatrix<double> full;
-      full = lower.selfadjointView<Eigen::Lower>();
-      Eigen::AMDOrdering<int> amd;
-      amd(full, perm_inv_);
-    }
-    perm_ = perm_inv_.inverse();
-    // P A Pᵀ as that factorisation builds it before each numeric pass; the numbered values
-    // say where each entry went.
-    permuted_.resize(12 * m, 12 * m);
-    permuted_.selfadjointView<Eigen::Upper>() =
-        lower.selfadjointView<Eigen::Lower>().twistedBy(perm_);
-    slot_.assign(triplets.size(), -1);
-    const double* numbers = permuted_.valuePtr();
-    for (Eigen::Index p = 0; p < permuted_.nonZeros(); ++p) slot_[std::size_t(numbers[p])] = int(p);
-    ldlt_.analyzePattern(permuted_);
-    if (ldlt_.info() != Eigen::Success)
-      throw SolverError("sparse LDLT analysis of the Newton matrix failed");
+    std::vector<std::pair<int, int>> pairs;
+    for (const OffDiagonal& o : offdiag_)
+      if (o.row > o.col) pairs.emplace_back(index_[o.row], index_[o.col]);
+    ldlt_.analyse(m, pairs);
     pattern_.swap(pattern_scratch_);
     analysed_ = true;
   }
-  double* values = permuted_.valuePtr();
-  std::size_t k = 0;
-  for_each_lower_entry(index_, [&](int, int, double v) { values[slot_[k++]] = v; });
-  ldlt_.factorize(permuted_);
-  if (ldlt_.info() != Eigen::Success)
-    throw SolverError("sparse LDLT factorisation of the Newton matrix failed");
-  b_free_.resize(12 * m);
+  diagonal_blocks_.clear();
   for (int b = 0; b < n_; ++b)
-    if (!fixed_[b]) b_free_.segment<12>(12 * index_[b]) = rhs.segment<12>(12 * b);
-  permuted_b_ = perm_ * b_free_;
-  permuted_x_ = ldlt_.solve(permuted_b_);  // P A Pᵀ (P x) = P b
-  if (ldlt_.info() != Eigen::Success || !permuted_x_.allFinite())
+    if (!fixed_[b]) diagonal_blocks_.push_back(&diag_[b]);
+  coupling_blocks_.clear();
+  for (const OffDiagonal& o : offdiag_)
+    if (o.row > o.col) coupling_blocks_.push_back(&o.H);
+  if (!ldlt_.factorize(diagonal_blocks_, coupling_blocks_))
+    throw SolverError("sparse LDLT factorisation of the Newton matrix failed");
+  x_free_.resize(12 * m);
+  for (int b = 0; b < n_; ++b)
+    if (!fixed_[b]) x_free_.segment<12>(12 * index_[b]) = rhs.segment<12>(12 * b);
+  ldlt_.solve(x_free_);
+  if (!x_free_.allFinite())
     throw SolverError("sparse LDLT solve of the Newton system failed (singular matrix?)");
-  x_free_ = perm_inv_ * permuted_x_;
   x.setZero(12 * n_);
   for (int b = 0; b < n_; ++b)
     if (!fixed_[b]) x.segment<12>(12 * b) = x_free_.segment<12>(12 * index_[b]);

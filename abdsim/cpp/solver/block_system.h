@@ -1,14 +1,14 @@
 // The Newton system H Δq = -g in 12x12 body blocks, and its three solvers: per-body
-// Cholesky when no block couples two bodies, Eigen's sparse LDLᵀ, and PCG with a 12x12
-// block-Jacobi preconditioner.
+// Cholesky when no block couples two bodies, a sparse block LDLᵀ (block_ldlt.h), and PCG
+// with a 12x12 block-Jacobi preconditioner.
 #pragma once
-#include <Eigen/SparseCholesky>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include <Eigen/SparseCore>
 
+#include "solver/block_ldlt.h"
 #include "solver/energy_term.h"
 
 namespace abd {
@@ -53,7 +53,7 @@ class BlockSystem {
   // Per-body solve, valid when !coupled(). Returns the first body whose block is not
   // positive definite, or -1.
   int solve_block_diagonal(const VecX& rhs, VecX& x, int threads) const;
-  // Sparse LDLᵀ of the assembled matrix. Throws SolverError on failure. The sparsity
+  // Sparse block LDLᵀ of the assembled matrix. Throws SolverError on failure. The sparsity
   // pattern, its fill-reducing ordering and symbolic factorisation are kept from the last
   // call while the free bodies and the coupled pairs stay the same (then only the values
   // are written and factorised again); returns true when a new symbolic analysis ran.
@@ -79,21 +79,14 @@ class BlockSystem {
   std::vector<int> row_start_;  // CSR over offdiag_ after finalize()
 
   // solve_direct's cache: the pattern it was analysed for (free bodies' indices, then the
-  // (row, col) of the lower coupling blocks), the fill-reducing permutation P (AMD, as
-  // SimplicialLDLT<Lower> orders), the matrix P A Pᵀ as that factorisation copies it before
-  // every numeric pass (its upper triangle, in the same entry order), where each entry of
-  // for_each_lower_entry lives in its value array, and the factorisation of that matrix
-  // without a permutation of its own: the same arithmetic, without the copy.
+  // (row, col) of the lower coupling blocks) and its block LDLᵀ (ordering and symbolic
+  // factorisation kept, values factorised again on each call).
   std::vector<int> index_;
   std::vector<int> pattern_;
   std::vector<int> pattern_scratch_;
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm_, perm_inv_;
-  Eigen::SparseMatrix<double> permuted_;
-  std::vector<int> slot_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>>
-      ldlt_;
-  VecX b_free_, x_free_;            // the free bodies' right-hand side and solution
-  VecX permuted_b_, permuted_x_;    // the same in the permuted order (P b, P x)
+  BlockLdlt ldlt_;
+  std::vector<const Mat12*> diagonal_blocks_, coupling_blocks_;
+  VecX x_free_;  // the free bodies' right-hand side, then their solution
   bool analysed_ = false;
 };
 

@@ -27,6 +27,12 @@ struct AffineDistance {
   Vec3 r = Vec3::Zero();            // the closest-point difference vector
   Eigen::Matrix<double, N, 1> grad;
   Eigen::Matrix<double, N, N> hess;
+  // The Hessian's factors (order 2), for a caller that works in its structure
+  // (contact/barrier_projection.h): nb = NB, the first nb columns of a and u, and U⁻¹.
+  int nb = 0;
+  Eigen::Matrix<double, NV, 2> a;
+  Eigen::Matrix<double, 3, 2> u;
+  Eigen::Matrix2d U_inv;
 };
 
 // order: 0 value (and w, r), 1 + gradient, 2 + Hessian.
@@ -76,7 +82,11 @@ AffineDistance<NV> affine_distance(const std::array<Vec3, NV>& x,
       for (int i = 0; i < NV; ++i)
         C.template block<1, 3>(k, 3 * i) = (a(i, k) * out.r + out.w[i] * u.col(k)).transpose();
     out.hess -= 2.0 * C.transpose() * U_inv * C;
+    out.a.template leftCols<NB>() = a;
+    out.u.template leftCols<NB>() = u;
+    out.U_inv.template topLeftCorner<NB, NB>() = U_inv;
   }
+  out.nb = NB;
   return out;
 }
 

@@ -30,6 +30,11 @@ AffineDistance<NV> evaluate_on(const std::array<Vec3, NV>& x, const std::array<i
     for (int k = 0; k < NS; ++k)
       for (int l = 0; l < NS; ++l)
         out.hess.template block<3, 3>(3 * idx[k], 3 * idx[l]) = s.hess.template block<3, 3>(3 * k, 3 * l);
+    out.nb = s.nb;
+    out.a.setZero();
+    for (int k = 0; k < NS; ++k) out.a.row(idx[k]) = s.a.row(k);
+    out.u = s.u;
+    out.U_inv = s.U_inv;
   }
   return out;
 }
