@@ -322,6 +322,7 @@ class World {
     std::vector<unsigned char> moving, near, warm, warm_island, stays, solved, strayed;
     std::vector<unsigned char> engaged, free_island;
     std::vector<BodyLink> links;
+    std::vector<BodyLink> constraint_links;  // join_constrained_islands'
     // The first check of the start move: its bound for the terms that do not split, and
     // the largest reach of a term.
     double global = 1.0, reach = 0.0;
