@@ -304,8 +304,14 @@ class World {
   std::deque<StepDiagnostics> steps_;
   std::size_t history_limit_ = 10000;
   std::size_t reported_ = 0;
-  // Drops the oldest steps beyond what steps_ keeps.
+  // Drops the oldest steps beyond what steps_ keeps; the last one dropped lends its lists'
+  // storage (energies, line-search alphas) to the next step's diagnostics (fresh_step).
   void trim_steps();
+  // A default StepDiagnostics whose (empty) lists reuse a dropped step's storage: a step
+  // fills them without allocating once the history is full.
+  StepDiagnostics fresh_step();
+  std::vector<double> spare_alphas_;
+  std::vector<std::pair<std::string, double>> spare_energies_;
   // solve_coupled's per-iteration scratch, kept from iteration to iteration and step to step
   // (no allocation once sized).
   std::vector<std::uint8_t> inactive_;
