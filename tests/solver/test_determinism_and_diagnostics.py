@@ -102,3 +102,23 @@ def test_last_diagnostics_survive_history_changes(tools):
     core.set_history_limit(1)
     assert [s.step for s in core.history] == [6] and core.diagnostics.step == 6
     assert core.history[0].wall_time == core.diagnostics.wall_time  # the same step
+
+
+def test_trimmed_history_reports_each_step_s_own_lists(tools):
+    # A step dropped from a full history lends its lists' storage (energies, line-search
+    # alphas) to the next step's diagnostics: the steps kept must still report their own
+    # values, those of a World that never dropped a step (the same steps, bit for bit).
+    short = tools.world_of(spinning_boxes(tools, n=4), history_limit=2)
+    long = tools.world_of(spinning_boxes(tools, n=4), history_limit=100)
+    for _ in range(6):
+        short.step()
+        long.step()
+        for a, b in zip(short.history, long.history[-2:], strict=True):
+            assert a.step == b.step
+            assert a.energies == b.energies
+            assert a.line_search_alphas == b.line_search_alphas
+    assert [d.step for d in short.history] == [4, 5]
+    assert short.history[-1].energies["total"] == pytest.approx(
+        short.history[-1].energies["kinetic"]
+        + short.scene.dt**2 * short.history[-1].energies["shape"]
+    )

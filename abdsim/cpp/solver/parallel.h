@@ -64,6 +64,16 @@ template <int K, typename F>
 std::array<double, K> deterministic_sums(int n, int threads, F&& f) {
   constexpr int kChunk = kDeterministicChunk;
   const int chunks = std::max((n + kChunk - 1) / kChunk, 1);
+  std::array<double, K> total{};
+  if (chunks == 1) {  // the same sums in the same order, without the partials' allocation
+    std::array<double, K> s{};
+    for (int i = 0; i < n; ++i) {
+      const std::array<double, K> v = f(i);
+      for (int k = 0; k < K; ++k) s[k] += v[k];
+    }
+    for (int k = 0; k < K; ++k) total[k] += s[k];
+    return total;
+  }
   std::vector<std::array<double, K>> partial(chunks);
   parallel_for(
       chunks, threads,
@@ -76,7 +86,6 @@ std::array<double, K> deterministic_sums(int n, int threads, F&& f) {
         partial[c] = s;
       },
       2);
-  std::array<double, K> total{};
   for (const std::array<double, K>& p : partial)
     for (int k = 0; k < K; ++k) total[k] += p[k];
   return total;

@@ -246,7 +246,7 @@ void World::finish_body(int b, double c) {
 const StepDiagnostics& World::step() {
   const auto t_start = std::chrono::steady_clock::now();
   const double h = scene_.dt;
-  StepDiagnostics d;
+  StepDiagnostics d = fresh_step();
   d.step = step_count_;
   if (contact_ && contact_->has_restitution()) {
     step_q_t_ = q_;
@@ -339,7 +339,20 @@ void World::clear_history() {
 void World::trim_steps() {
   // The last step stays (diagnostics() reads it) even when no step is reported.
   const std::size_t kept = std::max<std::size_t>(history_limit_, 1);
-  while (steps_.size() > kept) steps_.pop_front();
+  while (steps_.size() > kept) {
+    spare_alphas_.swap(steps_.front().line_search_alphas);
+    spare_energies_.swap(steps_.front().energies);
+    steps_.pop_front();
+  }
+}
+
+StepDiagnostics World::fresh_step() {
+  StepDiagnostics d;
+  d.line_search_alphas.swap(spare_alphas_);
+  d.energies.swap(spare_energies_);
+  d.line_search_alphas.clear();
+  d.energies.clear();
+  return d;
 }
 
 // ---------------------------------------------------------------------------------------

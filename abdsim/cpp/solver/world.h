@@ -316,8 +316,14 @@ class World {
   std::deque<StepDiagnostics> steps_;
   std::size_t history_limit_ = 10000;
   std::size_t reported_ = 0;
-  // Drops the oldest steps beyond what steps_ keeps.
+  // Drops the oldest steps beyond what steps_ keeps; the last one dropped lends its lists'
+  // storage (energies, line-search alphas) to the next step's diagnostics (fresh_step).
   void trim_steps();
+  // A default StepDiagnostics whose (empty) lists reuse a dropped step's storage: a step
+  // fills them without allocating once the history is full.
+  StepDiagnostics fresh_step();
+  std::vector<double> spare_alphas_;
+  std::vector<std::pair<std::string, double>> spare_energies_;
   // solve_coupled's per-iteration scratch, kept from iteration to iteration and step to step
   // (no allocation once sized).
   std::vector<std::uint8_t> inactive_;
@@ -334,6 +340,7 @@ class World {
     std::vector<unsigned char> moving, near, warm, warm_island, stays, solved, strayed;
     std::vector<unsigned char> engaged, free_island;
     std::vector<BodyLink> links;
+    std::vector<BodyLink> constraint_links;  // join_constrained_islands'
     // The first check of the start move: its bound for the terms that do not split, and
     // the largest reach of a term.
     double global = 1.0, reach = 0.0;

@@ -57,7 +57,8 @@ void World::mark_jointed() {
 // ties together are one island.
 void World::join_constrained_islands(std::vector<unsigned char>& near) {
   if (constraints_.empty()) return;
-  std::vector<BodyLink> links;
+  std::vector<BodyLink>& links = start_.constraint_links;  // kept: no allocation a step
+  links.clear();
   for (const auto& c : constraints_) c->body_links(links);
   for (int b = 0; b < n_; ++b)
     if (jointed_[b]) near[b] = 1;
