@@ -9,7 +9,9 @@ Both: dt = 1e-3, 1,000 steps, the whole run inside each engine (abdsim ``World.s
 MuJoCo ``mj_step(nstep=n)``, implicitfast: Euler is unstable on the Panda's 15 g fingers
 with kv = 20), built from one Pinocchio model (abdsim:
 ``abdsim.bridges.pinocchio_articulation``; MuJoCo: nested bodies with the same inertials and
-joints, no geometry). Reports steps/s of each, their ratio and abdsim's largest joint violation
+joints, no geometry). Neither engine evaluates its energies (MuJoCo's mjENBL_ENERGY is off by
+default; abdsim's ``SceneSettings.energies`` is turned off here; --energies turns it on).
+Reports steps/s of each, their ratio and abdsim's largest joint violation
 (a second, step-by-step run). On a shared machine wall-clock rates swing with the load: the
 ratio of CPU times (process time of each run) is printed too, and each engine's run is
 repeated (--repeat, from the same start) with its fastest repetition reported.
@@ -108,9 +110,12 @@ TIMERS = (
 )
 
 
-def run_abdsim(model: pin.Model, q0: np.ndarray, actuated: bool, steps: int, repeat: int) -> dict:
+def run_abdsim(
+    model: pin.Model, q0: np.ndarray, actuated: bool, steps: int, repeat: int, energies: bool
+) -> dict:
     scene = abdsim.Scene(dt=DT, integrator="bdf2", contact=False)
     scene.settings.history_limit = steps
+    scene.settings.energies = energies
     articulation_from_pinocchio(model, q0, scene)
     for j in scene.joints:
         if actuated:
@@ -176,6 +181,9 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=1000)
     parser.add_argument("--repeat", type=int, default=3, help="runs per engine (fastest kept)")
     parser.add_argument("--profile", action="store_true", help="where abdsim's step goes")
+    parser.add_argument(
+        "--energies", action="store_true", help="abdsim evaluates its step-end energies"
+    )
     args = parser.parse_args()
     panda = panda_model()
     chain = chain_model()
@@ -193,7 +201,7 @@ def main() -> None:
         f"{'CPU ratio':>9s} {'max violation (m)':>18s} {'max |q - q0|':>13s}"
     )
     for name, model, q0, actuated in cases:
-        ours = run_abdsim(model, q0, actuated, args.steps, max(args.repeat, 1))
+        ours = run_abdsim(model, q0, actuated, args.steps, max(args.repeat, 1), args.energies)
         theirs = run_mujoco(model, q0, actuated, args.steps, max(args.repeat, 1))
         print(
             f"{name:30s} {ours['rate']:15.0f} {theirs['rate']:15.0f} "

@@ -65,7 +65,8 @@ class StepDiagnostics:
             target (0 when every kinematic body reached it); ``kinematic_lag_body`` is that
             body (-1 if none).
         energies: ``kinetic`` (½|q − q̃|²_M), ``shape`` and each added term (potentials,
-            unscaled) and ``total`` (Π), at the end of the step.
+            unscaled) and ``total`` (Π), at the end of the step; empty when
+            ``SceneSettings.energies`` is off.
         substeps: pieces the step was split into (1: solved whole). A step whose straight-line
             motion from t to t + dt would cross contact (a body passing through another between
             the reported states), that would invert or collapse a body, or that Newton could

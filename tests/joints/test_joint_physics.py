@@ -188,3 +188,29 @@ def test_jointed_steps_are_deterministic_across_thread_counts():
         world.step(200)
         runs.append(world.q)
     np.testing.assert_array_equal(runs[0], runs[1])
+
+
+def test_energies_off_skips_only_the_report():
+    # SceneSettings.energies = False (MuJoCo's mjENBL_ENERGY off): the step-end energies are
+    # not evaluated and StepDiagnostics.energies is empty; the motion, the joint positions
+    # (whose hinge angles the joint set then reads without the energies' evaluation at the
+    # step end) and every other diagnostic are those of a run that reports them, to the bit.
+    runs = {}
+    for energies in (True, False):
+        scene, _ = chain_scene([0.5, -0.3, 0.2])
+        scene.settings.energies = energies
+        _with(scene, damping=0.2, limits=(-1.0, 1.0))
+        scene.add_actuator(scene.joints[1], "position", kp=20.0, kv=2.0)
+        world = abdsim.World(scene)
+        world.ctrl[:] = 0.4
+        world.step(300)
+        runs[energies] = (world.q, world.joint_positions(), world.history)
+    (q_on, pos_on, hist_on), (q_off, pos_off, hist_off) = runs[True], runs[False]
+    np.testing.assert_array_equal(q_on, q_off)
+    np.testing.assert_array_equal(pos_on, pos_off)
+    assert all(d.energies == {} for d in hist_off)
+    assert all(set(d.energies) == {"kinetic", "shape", "joints", "total"} for d in hist_on)
+    for on, off in zip(hist_on, hist_off, strict=True):
+        assert replace(on, energies={}, wall_time=0.0, profile={}) == replace(
+            off, wall_time=0.0, profile={}
+        )

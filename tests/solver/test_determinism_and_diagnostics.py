@@ -122,3 +122,15 @@ def test_trimmed_history_reports_each_step_s_own_lists(tools):
         short.history[-1].energies["kinetic"]
         + short.scene.dt**2 * short.history[-1].energies["shape"]
     )
+
+
+def test_energies_off_on_the_per_body_path(tools):
+    # Bodies solved alone report their energies from their own Newton solves; off, nothing,
+    # and the same motion to the bit.
+    on = tools.world_of(spinning_boxes(tools, n=6))
+    off = tools.world_of(spinning_boxes(tools, n=6), energies=False)
+    on.step(5)
+    off.step(5)
+    np.testing.assert_array_equal(on.q, off.q)
+    assert set(on.diagnostics.energies) == {"kinetic", "shape", "total"}
+    assert off.diagnostics.energies == {} and off.diagnostics.newton_iterations > 0

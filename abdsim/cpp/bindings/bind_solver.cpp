@@ -435,6 +435,7 @@ void bind_settings(py::module_& m) {
       .def_readwrite("direct_max_dofs", &SolverSettings::direct_max_dofs)
       .def_readwrite("pcg_max_iterations", &SolverSettings::pcg_max_iterations)
       .def_readwrite("project_psd", &SolverSettings::project_psd)
+      .def_readwrite("energies", &SolverSettings::energies)
       .def_readwrite("num_threads", &SolverSettings::num_threads);
 
   py::class_<StepDiagnostics>(m, "StepDiagnostics", "What one time step did.")

@@ -111,6 +111,7 @@ ConstraintViolation JointSet::violation(const VecX& q) const {
 double JointSet::coordinate(int j, const VecX& q, Vec12* grad_child, Vec12* grad_parent) const {
   const JointFrame& f = frames_[j];
   CoordinateCache& cached = coordinate_cache_[j];
+  coordinates_read_ = true;
   const Vec12 qc = body_q(q, f.spec.child), qp = body_q(q, f.spec.parent);
   if (!cached.valid || cached.qc != qc || cached.qp != qp) {
     // With the gradient always: a value is mostly followed by derivatives at the same state.
@@ -140,7 +141,12 @@ bool JointSet::cached_coordinate(int j, const VecX& q, double& value) const {
 // step): the same bits as hinge_angle.
 double JointSet::unwrapped_angle(int j, const VecX& q, bool cached) const {
   double a;
-  if (!cached || !cached_coordinate(j, q, a)) a = hinge_angle(frames_[j], q);
+  if (!cached)
+    a = hinge_angle(frames_[j], q);
+  else if (!cached_coordinate(j, q, a))
+    // Not evaluated there yet (no step-end energies): into the cache when a term reads it
+    // (the next step starts at q), else alone.
+    a = coordinates_read_ ? coordinate(j, q, nullptr, nullptr) : hinge_angle(frames_[j], q);
   const double two_pi = 2.0 * M_PI;
   return a + two_pi * std::round((last_angle_[j] - a) / two_pi);
 }

@@ -76,6 +76,7 @@ class JointSet : public Constraint {
     Vec12 gc, gp;
   };
   mutable std::vector<CoordinateCache> coordinate_cache_;  // per joint (coordinate())
+  mutable bool coordinates_read_ = false;  // coordinate() was called (a term reads them)
   // The cached value of joint j when it was computed at q's states (else false).
   bool cached_coordinate(int j, const VecX& q, double& value) const;
   int nq_ = 0, nv_ = 0;

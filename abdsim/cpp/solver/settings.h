@@ -55,6 +55,12 @@ struct SolverSettings {
 
   // Project the shape energy's Hessian to PSD (always wanted; off only for experiments).
   bool project_psd = true;
+  // Evaluate Π and its parts at each step's end into StepDiagnostics::energies (MuJoCo's
+  // mjENBL_ENERGY; on by default here). Off: energies is empty and the step skips that pass
+  // over bodies and terms; nothing else changes (the energies are only reported). They cannot
+  // be evaluated later from the history: a term's value depends on that step's state of
+  // the term (its controls, predictions, stiffness), which Python terms keep to themselves.
+  bool energies = true;
   // Worker threads for the per-body and per-stencil loops; 0 = all hardware threads. Results
   // do not depend on it.
   int num_threads = 0;

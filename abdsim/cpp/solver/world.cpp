@@ -506,7 +506,8 @@ void World::step_per_body(double c, bool bdf2, StepDiagnostics& d) {
     for (const auto& t : alphas) a = std::min(a, t[it]);
     d.line_search_alphas.push_back(a <= 1.0 ? a : 1.0);
   }
-  d.energies = {{"kinetic", kinetic}, {"shape", shape}, {"total", kinetic + c2 * shape}};
+  if (settings_.energies)
+    d.energies = {{"kinetic", kinetic}, {"shape", shape}, {"total", kinetic + c2 * shape}};
 }
 
 }  // namespace abd

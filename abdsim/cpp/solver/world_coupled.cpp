@@ -445,6 +445,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
     }
   }
 
+  if (!settings_.energies) return;  // not asked for (SolverSettings::energies)
   std::vector<double>& parts = energy_parts_;
   const double E = total_energy(x_, c2, &parts);
   d.energies = {{"kinetic", parts[0]}, {"shape", parts[1]}};
