@@ -87,7 +87,7 @@ class SceneSettings:
     Linear solver:
         linear_solver: ``"auto"``: bodies that no energy term couples are solved per body (a
             12x12 Cholesky each; with no extra term every body runs its own Newton solve);
-            coupled systems use the sparse direct solver (Eigen SimplicialLDLT) up to
+            coupled systems use the sparse direct solver (a block LDLᵀ over the bodies) up to
             ``direct_max_dofs`` unknowns and PCG with a 12x12 block-Jacobi preconditioner
             above. ``"direct"`` / ``"pcg"`` force one (on the global Newton system).
         direct_max_dofs: size limit (12 per body) of the direct solver under ``"auto"``.

@@ -32,7 +32,7 @@ void solve_right_transposed(const Mat12& L, Mat12& X) {
 
 void BlockLdlt::analyse(int m, const std::vector<std::pair<int, int>>& pairs) {
   m_ = m;
-  // AMD on the bodies' graph (as SimplicialLDLT orders: AMD gives P⁻¹, new → old).
+  // AMD on the bodies' graph (Eigen's AMDOrdering gives P⁻¹: new index → old).
   {
     std::vector<Eigen::Triplet<double>> t;
     t.reserve(size_t(m) + 2 * pairs.size());
