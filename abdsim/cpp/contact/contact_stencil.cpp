@@ -24,12 +24,12 @@ Mat3x2 piece_basis(const stencil::Piece& piece, const std::array<Vec3, 4>& y) {
 
 template <class Distance>
 void fill_from(const Distance& d, const stencil::Piece& piece, const std::array<Vec3, 4>& y,
-               int order, bool want_basis, StencilGeometry& g) {
+               int order, bool want_basis, bool dense_hessian, StencilGeometry& g) {
   g.d2 = d.d2;
   g.w = d.w;
   if (order >= 1) g.grad = d.grad;
   if (order >= 2) {
-    g.hess = d.hess;
+    if (dense_hessian) g.hess = d.hess;
     g.r = d.r;
     g.nb = d.nb;
     g.a = d.a;
@@ -90,7 +90,8 @@ StencilVec gather_positions(const ContactStencil& s, const std::vector<Vec3>& x)
 }
 
 StencilGeometry stencil_geometry(const ContactStencil& s, const std::vector<Vec3>& x,
-                                 double ground_height, int order, bool want_basis) {
+                                 double ground_height, int order, bool want_basis,
+                                 bool dense_hessian) {
   StencilGeometry g;
   if (s.kind == StencilKind::PointGround) {
     const Vec3& p = x[s.vertices[0]];
@@ -107,11 +108,13 @@ StencilGeometry stencil_geometry(const ContactStencil& s, const std::vector<Vec3
   if (s.kind == StencilKind::PointTriangle) {
     const auto type = point_triangle_distance_type(y[0], y[1], y[2], y[3]);
     const stencil::Piece& piece = point_triangle_piece(type);
-    fill_from(stencil::evaluate_piece<4>(y, piece, order), piece, y, order, want_basis, g);
+    fill_from(stencil::evaluate_piece<4>(y, piece, order, dense_hessian), piece, y, order, want_basis,
+              dense_hessian, g);
   } else {
     const auto type = edge_edge_distance_type(y[0], y[1], y[2], y[3]);
     const stencil::Piece& piece = edge_edge_piece(type);
-    fill_from(stencil::evaluate_piece<4>(y, piece, order), piece, y, order, want_basis, g);
+    fill_from(stencil::evaluate_piece<4>(y, piece, order, dense_hessian), piece, y, order, want_basis,
+              dense_hessian, g);
   }
   g.infeasible = g.d2 <= s.xi * s.xi;
   return g;

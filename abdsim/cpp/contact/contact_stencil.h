@@ -52,8 +52,11 @@ struct StencilDistance {
   bool infeasible = false;
 };
 
+// dense_hessian = false (order 2): hess is left unset, only its factors are filled (a caller
+// that projects in their structure, barrier_projection.h).
 StencilGeometry stencil_geometry(const ContactStencil& s, const std::vector<Vec3>& x,
-                                 double ground_height, int order, bool want_basis = false);
+                                 double ground_height, int order, bool want_basis = false,
+                                 bool dense_hessian = true);
 
 // Stencil coordinates [x_{v0}; x_{v1}; ...] (3·nv values).
 StencilVec gather_positions(const ContactStencil& s, const std::vector<Vec3>& x);

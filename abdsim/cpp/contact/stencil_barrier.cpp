@@ -70,7 +70,11 @@ StencilEnergy stencil_barrier(const ContactStencil& s, const std::vector<Vec3>& 
   StencilEnergy e;
   if (order >= 1) e.grad = StencilVec::Zero(n);
   if (order >= 2) e.hess = StencilMat::Zero(n, n);
-  const StencilGeometry g = stencil_geometry(s, x, p.ground_height, order);
+  // The structured projection needs the distance Hessian's factors, not the dense matrix:
+  // it is computed only where that projection does not apply (the mollifier, degenerate
+  // input), below.
+  const bool structured = order >= 2 && p.project_psd && s.kind != StencilKind::PointGround;
+  StencilGeometry g = stencil_geometry(s, x, p.ground_height, order, false, !structured);
   if (order < 1) {
     e.value = stencil_barrier_value(s, {g.d2, g.infeasible}, x, p);
     return e;
@@ -92,9 +96,12 @@ StencilEnergy stencil_barrier(const ContactStencil& s, const std::vector<Vec3>& 
   const double b2 = barrier_second_derivative(g.d2, p.d_hat, s.xi);
   // Without the mollifier the projection works in the distance Hessian's structure
   // (barrier_projection.h), on at most 5x5 instead of 9x9.
-  if (p.project_psd && !m.active && s.kind != StencilKind::PointGround &&
-      project_barrier_hessian(g, p.kappa * m.value * b2, p.kappa * m.value * b1, e.hess))
-    return e;
+  if (structured) {
+    if (!m.active &&
+        project_barrier_hessian(g, p.kappa * m.value * b2, p.kappa * m.value * b1, e.hess))
+      return e;
+    g = stencil_geometry(s, x, p.ground_height, order);  // with the dense Hessian
+  }
   e.hess = p.kappa * m.value * (b2 * g.grad * g.grad.transpose() + b1 * g.hess);
   if (m.active) {
     // product rule for m · b(d²): cross terms and the mollifier's own curvature

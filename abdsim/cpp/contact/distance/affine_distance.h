@@ -35,11 +35,13 @@ struct AffineDistance {
   Eigen::Matrix2d U_inv;
 };
 
-// order: 0 value (and w, r), 1 + gradient, 2 + Hessian.
+// order: 0 value (and w, r), 1 + gradient, 2 + the Hessian's factors, and the dense Hessian
+// unless dense_hessian = false (a caller that works in the factors alone).
 template <int NV, int NB>
 AffineDistance<NV> affine_distance(const std::array<Vec3, NV>& x,
                                    const Eigen::Matrix<double, NV, 1>& c,
-                                   const Eigen::Matrix<double, NV, NB>& a, int order) {
+                                   const Eigen::Matrix<double, NV, NB>& a, int order,
+                                   bool dense_hessian = true) {
   AffineDistance<NV> out;
   Eigen::Matrix<double, 3, NV> X;
   for (int i = 0; i < NV; ++i) X.col(i) = x[i] - x[0];
@@ -73,15 +75,18 @@ AffineDistance<NV> affine_distance(const std::array<Vec3, NV>& x,
   for (int i = 0; i < NV; ++i) out.grad.template segment<3>(3 * i) = 2.0 * out.w[i] * out.r;
   if (order < 2) return out;
 
-  for (int i = 0; i < NV; ++i)
-    for (int j = 0; j < NV; ++j)
-      out.hess.template block<3, 3>(3 * i, 3 * j) = 2.0 * out.w[i] * out.w[j] * Mat3::Identity();
+  if (dense_hessian)
+    for (int i = 0; i < NV; ++i)
+      for (int j = 0; j < NV; ++j)
+        out.hess.template block<3, 3>(3 * i, 3 * j) = 2.0 * out.w[i] * out.w[j] * Mat3::Identity();
   if constexpr (NB > 0) {
-    Eigen::Matrix<double, NB, 3 * NV> C;
-    for (int k = 0; k < NB; ++k)
-      for (int i = 0; i < NV; ++i)
-        C.template block<1, 3>(k, 3 * i) = (a(i, k) * out.r + out.w[i] * u.col(k)).transpose();
-    out.hess -= 2.0 * C.transpose() * U_inv * C;
+    if (dense_hessian) {
+      Eigen::Matrix<double, NB, 3 * NV> C;
+      for (int k = 0; k < NB; ++k)
+        for (int i = 0; i < NV; ++i)
+          C.template block<1, 3>(k, 3 * i) = (a(i, k) * out.r + out.w[i] * u.col(k)).transpose();
+      out.hess -= 2.0 * C.transpose() * U_inv * C;
+    }
     out.a.template leftCols<NB>() = a;
     out.u.template leftCols<NB>() = u;
     out.U_inv.template topLeftCorner<NB, NB>() = U_inv;
