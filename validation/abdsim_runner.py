@@ -121,6 +121,14 @@ def stored_energy(world) -> float:
     """Energy stored in the potentials at the current state (J): every body's shape energy
     κ v̄ Ψ and the contact barrier's κ B (not friction's lagged dissipation potential). The
     mechanical energy a contact may not increase is kinetic + gravity + this."""
+    scene = getattr(world, "scene", None)
+    if scene is not None and not scene.settings.energies:
+        # Without the step-end energies the shape part would read 0 and the energy check
+        # would pass a gain it cannot see.
+        raise ValueError(
+            "stored_energy needs the step-end energies: the scene's SceneSettings.energies "
+            "is off (turn it on to validate energy)"
+        )
     contact = getattr(world, "contact", None)
     barrier = float(contact.barrier_value(world.q)) if contact is not None else 0.0
     diag = world.diagnostics

@@ -97,3 +97,24 @@ def test_accuracy_tolerances_follow_the_methods_order():
     # contact, energy gain and inertia are not integration errors: unchanged
     for name in ("min_contact_distance", "energy_gain", "inertia_rel", "first_contact_time"):
         assert getattr(coarse, name) == getattr(t, name)
+
+
+def test_stored_energy_is_the_shape_energy_and_refuses_a_world_without_energies():
+    import abdsim
+    from abdsim.validation.abdsim_runner import stored_energy
+
+    box = abdsim.geometry.box((0.1, 0.2, 0.3))
+    abdsim.AffineBodyConstitution("OrthoPotential").apply_to(box, kappa=1e8, mass_density=1e3)
+    box.transforms[:, :3, :3] = np.diag([1.01, 1.0, 1.0])  # stretched 1 %: Ψ > 0
+    scene = abdsim.Scene(dt=0.01, gravity=(0, 0, 0), contact=False)
+    scene.add(box)
+    world = abdsim.World(scene)
+    world.step()
+    A = world.q[0, 3:].reshape(3, 3)
+    psi = np.sum((A @ A.T - np.eye(3)) ** 2)
+    volume = 0.1 * 0.2 * 0.3
+    assert stored_energy(world) == pytest.approx(1e8 * volume * psi, rel=1e-9)
+
+    scene.settings.energies = False
+    with pytest.raises(ValueError, match="SceneSettings.energies is off"):
+        stored_energy(abdsim.World(scene))
