@@ -108,16 +108,22 @@ ConstraintViolation JointSet::violation(const VecX& q) const {
   return worst.result();
 }
 
+bool JointSet::cache_holds(int j, const VecX& q) const {
+  const JointFrame& f = frames_[j];
+  const CoordinateCache& cached = coordinate_cache_[j];
+  return cached.valid && cached.qc == body_q(q, f.spec.child) &&
+         cached.qp == body_q(q, f.spec.parent);
+}
+
 double JointSet::coordinate(int j, const VecX& q, Vec12* grad_child, Vec12* grad_parent) const {
   const JointFrame& f = frames_[j];
   CoordinateCache& cached = coordinate_cache_[j];
   coordinates_read_ = true;
-  const Vec12 qc = body_q(q, f.spec.child), qp = body_q(q, f.spec.parent);
-  if (!cached.valid || cached.qc != qc || cached.qp != qp) {
+  if (!cache_holds(j, q)) {
     // With the gradient always: a value is mostly followed by derivatives at the same state.
     cached.value = joint_limit_coordinate(f, q, &cached.gc, &cached.gp);
-    cached.qc = qc;
-    cached.qp = qp;
+    cached.qc = body_q(q, f.spec.child);
+    cached.qp = body_q(q, f.spec.parent);
     cached.valid = true;
   }
   if (grad_child) *grad_child = cached.gc;
@@ -126,12 +132,8 @@ double JointSet::coordinate(int j, const VecX& q, Vec12* grad_child, Vec12* grad
 }
 
 bool JointSet::cached_coordinate(int j, const VecX& q, double& value) const {
-  const JointFrame& f = frames_[j];
-  const CoordinateCache& cached = coordinate_cache_[j];
-  if (!cached.valid || cached.qc != body_q(q, f.spec.child) ||
-      cached.qp != body_q(q, f.spec.parent))
-    return false;
-  value = cached.value;
+  if (!cache_holds(j, q)) return false;
+  value = coordinate_cache_[j].value;
   return true;
 }
 

@@ -77,6 +77,8 @@ class JointSet : public Constraint {
   };
   mutable std::vector<CoordinateCache> coordinate_cache_;  // per joint (coordinate())
   mutable bool coordinates_read_ = false;  // coordinate() was called (a term reads them)
+  // Whether joint j's cache was computed at q's states (the two bodies' bits).
+  bool cache_holds(int j, const VecX& q) const;
   // The cached value of joint j when it was computed at q's states (else false).
   bool cached_coordinate(int j, const VecX& q, double& value) const;
   int nq_ = 0, nv_ = 0;

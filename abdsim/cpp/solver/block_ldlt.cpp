@@ -134,7 +134,8 @@ bool BlockLdlt::factorize(const std::vector<const Mat12*>& diagonal,
 }
 
 void BlockLdlt::solve(VecX& x) const {
-  VecX y(12 * m_);
+  VecX& y = solve_scratch_;  // kept: no allocation per solve
+  y.resize(12 * m_);
   for (int k = 0; k < m_; ++k) y.segment<12>(12 * k) = x.segment<12>(12 * old_of_new_[size_t(k)]);
   for (int j = 0; j < m_; ++j) {  // L z = P x, column by column
     const Mat12& L = diag_[size_t(j)];

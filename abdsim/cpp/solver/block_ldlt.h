@@ -38,6 +38,7 @@ class BlockLdlt {
   std::vector<Vec12> inv_d_;              // 1 / D
   std::vector<Mat12> blocks_;             // L's off-diagonal blocks
   mutable std::vector<Mat12> scratch_;    // one column's blocks before scaling by D⁻¹
+  mutable VecX solve_scratch_;            // solve()'s vector in the elimination order
 };
 
 }  // namespace abd

@@ -64,28 +64,23 @@ template <int K, typename F>
 std::array<double, K> deterministic_sums(int n, int threads, F&& f) {
   constexpr int kChunk = kDeterministicChunk;
   const int chunks = std::max((n + kChunk - 1) / kChunk, 1);
-  std::array<double, K> total{};
-  if (chunks == 1) {  // the same sums in the same order, without the partials' allocation
+  // One chunk's sums, in index order.
+  auto chunk_sums = [&](int c) {
     std::array<double, K> s{};
-    for (int i = 0; i < n; ++i) {
+    for (int i = c * kChunk, end = std::min(n, (c + 1) * kChunk); i < end; ++i) {
       const std::array<double, K> v = f(i);
       for (int k = 0; k < K; ++k) s[k] += v[k];
     }
+    return s;
+  };
+  std::array<double, K> total{};
+  if (chunks == 1) {  // the same sums in the same order, without the partials' allocation
+    const std::array<double, K> s = chunk_sums(0);
     for (int k = 0; k < K; ++k) total[k] += s[k];
     return total;
   }
   std::vector<std::array<double, K>> partial(chunks);
-  parallel_for(
-      chunks, threads,
-      [&](int c) {
-        std::array<double, K> s{};
-        for (int i = c * kChunk, end = std::min(n, (c + 1) * kChunk); i < end; ++i) {
-          const std::array<double, K> v = f(i);
-          for (int k = 0; k < K; ++k) s[k] += v[k];
-        }
-        partial[c] = s;
-      },
-      2);
+  parallel_for(chunks, threads, [&](int c) { partial[c] = chunk_sums(c); }, 2);
   for (const std::array<double, K>& p : partial)
     for (int k = 0; k < K; ++k) total[k] += p[k];
   return total;
