@@ -151,12 +151,14 @@ bool TreeKkt::build_forest(const BlockSystem& system, const std::vector<Constrai
 // V = L⁻¹ H_bP; then S = W Wᵀ + D = L_S L_Sᵀ with λ = L_S⁻¹ (c + W t) and Qᵀ ← Qᵀ L_S⁻ᵀ in
 // that sweep. On the leading R >= m rows of W (the rows past m are zero padding: a revolute
 // joint's 7 rows take 8 of the 12).
+// Flattened: every call inside is inlined (the unrolled factorisation is too large for the
+// compiler to inline Eigen's small fixed-size operators into it by itself).
 template <int R>
-bool TreeKkt::factor_rows(Node& node, Vec12& t, Vec12& lambda) {
+ABD_DENSE_FLATTEN bool TreeKkt::factor_rows(Node& node, Vec12& t, Vec12& lambda) {
   const int m = node.m;
   // L itself is needed for V alone; L_S only through L_Sᵀ and its diagonal (the pivots).
-  if (!dense::cholesky_forward<12, R>(node.L, node.Lt, node.L_inv_diagonal, t, node.W, 12,
-                                      node.coupling != nullptr))
+  if (!dense::cholesky_forward<12, R, 12>(node.L, node.Lt, node.L_inv_diagonal, t, node.W, 12,
+                                          node.coupling != nullptr))
     return false;
   Mat12& Qt = node.Qt;  // −J_Pᵀ from gather (zero on a root, whose Q is not used)
   if (node.parent >= 0 && node.coupling) {
