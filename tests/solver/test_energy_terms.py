@@ -396,3 +396,31 @@ def test_named_python_term_out_of_range(tools):
     world.add_term(Spring(0, 5, np.zeros(3), np.zeros(3), k=1.0, bodies=[0, 5]))
     with pytest.raises(ValueError, match="body 5 is out of range"):
         world.step()
+
+
+class NonFinite(Spring):
+    """A spring whose gradient has one entry replaced by `bad` (inf, -inf or NaN)."""
+
+    def __init__(self, *args, bad, entry, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.bad, self.entry = bad, entry
+
+    def gradient(self, q):
+        g = super().gradient(q)
+        g[self.entry] = self.bad
+        return g
+
+
+@pytest.mark.parametrize("bad", [np.inf, -np.inf, np.nan])
+@pytest.mark.parametrize("entry", [0, 13, 23])
+def test_a_non_finite_gradient_is_reported_and_the_state_kept(tools, bad, entry):
+    """One non-finite entry anywhere in ∇Π (first, middle or last of the two bodies' 24)
+    stops the step with a SolverError naming the gradient, and the state stays as it was
+    (the solver's vectorised finiteness check: x − x summed is NaN for any ±inf or NaN)."""
+    sc = tools.make_box(2)
+    world = tools.world_of(sc, gravity=(0, 0, 0))
+    world.add_term(NonFinite(0, 1, np.zeros(3), [1.0, 0, 0], k=1e3, bad=bad, entry=entry))
+    q = world.q.copy()
+    with pytest.raises(abdsim.SolverError, match="gradient of Π is not finite"):
+        world.step()
+    np.testing.assert_array_equal(world.q, q)

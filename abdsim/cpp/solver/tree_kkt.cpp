@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/finite.h"
 #include "solver/small_dense.h"
 
 namespace abd {
@@ -317,7 +318,7 @@ bool TreeKkt::solve(const BlockSystem& system, const std::vector<ConstraintRow>&
     dense::upper_solve(node.Lt, node.L_inv_diagonal, w);
     x.segment<12>(12 * b) = w;
   }
-  built_ = x.allFinite();
+  built_ = all_finite(x);
   return built_;
 }
 

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "common/affine.h"
+#include "common/finite.h"
 #include "contact/ipc_contact_term.h"
 #include "solver/body_math.h"
 #include "solver/parallel.h"
@@ -300,7 +301,7 @@ void World::solve_step(StepDiagnostics& d) {
     shift_ballistic_bodies();
   contact_diagnostics(d);
   constraint_diagnostics(d);
-  if (!x_.allFinite() || !q_dot_new_.allFinite())
+  if (!all_finite(x_) || !all_finite(q_dot_new_))
     throw SolverError("the step produced a non-finite state");
 }
 

@@ -27,6 +27,7 @@
 #include <string>
 
 #include "common/affine.h"
+#include "common/finite.h"
 #include "common/stopwatch.h"
 #include "solver/body_math.h"
 #include "solver/constrained_solve.h"
@@ -234,7 +235,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       t->add_gradient_and_hessian_rows(x_, c2, grad_, blocks_, hessian_rows_);
     for (int b = 0; b < n_; ++b)
       if (inactive[b]) grad_.segment<12>(12 * b).setZero();
-    if (!grad_.allFinite()) throw SolverError("the gradient of Π is not finite");
+    if (!all_finite(grad_)) throw SolverError("the gradient of Π is not finite");
     system_.add_blocks(blocks_);
     // The KKT solves take rank-one rows as rows; the other solvers as blocks.
     system_.add_rows(hessian_rows_, constrained);
@@ -273,7 +274,7 @@ void World::solve_coupled(double c2, StepDiagnostics& d) {
       d.pcg_iterations += system_.solve_pcg(rhs, dq_, settings_.pcg_tolerance,
                                             settings_.pcg_max_iterations, threads_);
     }
-    if (!dq_.allFinite()) throw SolverError("the Newton direction is not finite");
+    if (!all_finite(dq_)) throw SolverError("the Newton direction is not finite");
     d.time_linear_solve += lap.split();
 
     // Per-island convergence test on the direction, relative to each body's tolerances.
