@@ -7,6 +7,7 @@ against the dense solve with k g gᵀ added to H."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from abdsim import _core
 
@@ -282,3 +283,19 @@ def test_branched_tree_of_every_joint_kind_matches_the_dense_solve():
     rows += slider_rows(6, 4, rng) + hinge_rows(7, 2, rng)
     soft = soft_rows([(1, 0), (2, 0), (4, 1), (6, 4), (7, 2), (5, 3)], rng)
     check_tight(diagonal, couplings, [0] * n, rows, soft)
+
+
+@pytest.mark.parametrize("coupled", [False, True])
+def test_every_row_count_per_node_matches_the_dense_solve(coupled):
+    """Node b of a chain carries the first b of a weld's twelve independent rows (b = 1..12),
+    so every row count a node can have is factorised once: each of the kernels' padded sizes
+    (4, 8, 12) with each of its compile-time row counts (tree_kkt.cpp, factor_rows). With
+    dense coupling blocks the same, through the V = L⁻¹ H_bP path."""
+    rng = np.random.default_rng(RNG_SEED + 3)
+    n = 13
+    pairs = [(b, b - 1) for b in range(1, n)] if coupled else []
+    diagonal, couplings = system(n, pairs, rng)
+    rows = hinge_rows(0, -1, rng)
+    for b in range(1, n):
+        rows += weld_rows(b, b - 1, rng)[:b]
+    check_tight(diagonal, couplings, [0] * n, rows, ())

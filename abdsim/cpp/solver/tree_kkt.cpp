@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "common/finite.h"
 #include "solver/small_dense.h"
@@ -179,9 +180,25 @@ ABD_DENSE_FLATTEN bool TreeKkt::factor_rows(Node& node, Vec12& t, Vec12& lambda)
   node.LS.diagonal().head(m) += node.D.head(m);
   lambda = node.c;
   lambda.noalias() += node.W.lazyProduct(t);
-  // Rows past m are padding (S = I there): only the leading m x m block is factorised.
-  return dense::cholesky_forward<R, 12>(node.LS, node.LSt, node.LS_inv_diagonal, lambda, Qt, m,
-                                        false);
+  // Rows past m are padding (S = I there): only the leading m x m block is factorised, its
+  // size a compile-time constant (unrolled, as H_bb's): R − 3 <= m <= R (factor_node).
+  auto factor_S = [&](auto size) {
+    return dense::cholesky_forward<R, 12, decltype(size)::value>(
+        node.LS, node.LSt, node.LS_inv_diagonal, lambda, Qt, m, false);
+  };
+  switch (m) {
+    case R:
+      return factor_S(std::integral_constant<int, R>());
+    case R - 1:
+      return factor_S(std::integral_constant<int, R - 1>());
+    case R - 2:
+      return factor_S(std::integral_constant<int, R - 2>());
+    case R - 3:
+      return factor_S(std::integral_constant<int, R - 3>());
+    default:
+      return dense::cholesky_forward<R, 12>(node.LS, node.LSt, node.LS_inv_diagonal, lambda, Qt,
+                                            m, false);
+  }
 }
 
 bool TreeKkt::factor_node(int b) {
