@@ -113,6 +113,34 @@ def test_friction_potential_derivatives(contact, fd, rng, scale):
                 assert np.linalg.norm(force) == pytest.approx(mu_lambda, rel=1e-9)
 
 
+@pytest.mark.parametrize("scale", [0.3, 3.0, 100.0])  # sticking, sliding, fast sliding
+def test_friction_majorizing_model_bounds_the_potential_from_above(contact, rng, scale):
+    """The majorising Hessian (f1/|u| I across and along u) makes the quadratic model an upper
+    bound of the potential along any step, steps that stop and reverse the slide included,
+    where the exact model (linear along a sliding u) falls below it by up to 2 μλ times the
+    overshoot."""
+    mu_lambda, worst_exact = 2.5, 0.0
+    for nv in [1, 2, 4]:
+        w = rng.uniform(-1, 1, nv)
+        T = np.linalg.qr(rng.normal(size=(3, 2)))[0]
+        Gamma = np.hstack([w[i] * T.T for i in range(nv)])
+        dx = rng.normal(size=3 * nv)
+        dx *= scale * EPS / np.linalg.norm(Gamma @ dx)
+        value, grad, hess = contact.friction_potential(dx, w, T, mu_lambda, EPS, majorize=True)
+        _, grad_exact, hess_exact = contact.friction_potential(dx, w, T, mu_lambda, EPS)
+        np.testing.assert_array_equal(grad, grad_exact)
+        assert np.linalg.eigvalsh(hess - hess_exact).min() >= -1e-9 * np.abs(hess).max()
+        for t in np.linspace(-3.0, 3.0, 61):  # t = -1: the slide stopped, -2: reversed
+            for step in (dx, rng.normal(size=3 * nv) * scale * EPS):
+                actual = contact.friction_potential(dx + t * step, w, T, mu_lambda, EPS)[0]
+                model = value + t * grad @ step + 0.5 * t * t * step @ hess @ step
+                exact = value + t * grad @ step + 0.5 * t * t * step @ hess_exact @ step
+                assert actual <= model + 1e-12 * mu_lambda * EPS * (1 + scale)
+                worst_exact = max(worst_exact, (actual - exact) / (mu_lambda * scale * EPS))
+    if scale > 1:  # the exact model misses the reversal: 2 μλ |u| at t = -2 (relative: 2)
+        assert worst_exact > 1.5
+
+
 def test_friction_potential_at_rest(contact):
     T = np.eye(3)[:, :2]
     value, grad, hess = contact.friction_potential(np.zeros(3), np.ones(1), T, 2.0, EPS)

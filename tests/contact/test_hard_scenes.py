@@ -138,9 +138,11 @@ def test_a_swarm_colliding_at_10_to_80_m_s(wc, swarm_speed):
     world = swarm(swarm_speed)
     momentum0 = world.velocities()[:, :2, 3].sum(axis=0)
     substeps = []
+    grounded = False  # a box has come near the ground (which takes momentum) at some step
     for d in checked_steps(wc, world, 12):
         substeps.append(d.substeps)
-        if d.contact_pairs["point_ground"] == 0:  # no box near the ground yet
+        grounded = grounded or d.contact_pairs["point_ground"] > 0
+        if not grounded:  # no box has reached the ground yet
             drift = world.velocities()[:, :2, 3].sum(axis=0) - momentum0
             assert np.abs(drift).max() < 1e-12 * swarm_speed * 12
     assert max(substeps) > 1  # the collisions needed pieces: this is the hard case

@@ -1,7 +1,9 @@
 """A heap of boxes landing and coming to rest (issue 12's scene, 20 boxes): Newton starts each
 island at its warm guess (the last step's contact forces carried over, World::warm_guess), so
-the resting heap takes one or two Newton iterations a step (steps 100-149: median 1, at most
-3; median 12, 8-40, when every island started where it was), without intersections (coal)."""
+the resting heap takes one or two Newton iterations a step (steps 150-199: median 1, at most
+2; steps 100-149 had median 1, at most 3, before majorised friction steps changed the
+trajectory, and median 12, 8-40, when every island started where it was), without
+intersections (coal)."""
 
 from __future__ import annotations
 
@@ -50,11 +52,13 @@ def heap(n: int = 20, layers: int = 5, seed: int = 0) -> abdsim.World:
 def test_a_resting_heap_takes_one_or_two_newton_iterations_a_step(wc):
     world = heap()
     iterations = []
-    for _ in range(150):
+    # Steps 150-199: in this trajectory a box still topples at step 100 (0.32 m/s); the heap
+    # is at rest from about step 140 (its fastest vertex below 2e-3 m/s).
+    for _ in range(200):
         d = world.step()
         assert d.min_contact_distance > 0
         iterations.append(d.newton_iterations)
-    resting = np.asarray(iterations[100:])
+    resting = np.asarray(iterations[150:])
     assert np.median(resting) <= 2 and resting.max() <= 4
     assert np.abs(world.velocities()[:, :3, 3]).max() < 1e-2  # the heap has come to rest
     hits, d_min, low = wc.coal_check(world)
@@ -110,3 +114,21 @@ def test_line_crosses_restarts_only_the_pairs_it_did_not_clear():
             assert new == _old_line_crosses(term, q, dq), f"states {k} -> {k + span}"
             answers.append(new)
     assert 0 < sum(answers) < len(answers)
+
+
+def test_a_landing_heap_takes_majorised_friction_steps_after_a_halving(wc):
+    """The heap landing (20 boxes, steps 0-59, seeds 0 and 1): after a line search that had to
+    halve a step, the next Newton iteration takes friction's majorising model
+    (EnergyTerm::set_majorizing_model), whose steps cannot overshoot a stopping slide.
+    1,681 and 1,682 Newton iterations; 2,574 and 2,694 with the exact model throughout. No
+    intersections (coal)."""
+    for seed in (0, 1):
+        world = heap(seed=seed)
+        iterations = 0
+        for _ in range(60):
+            d = world.step()
+            assert d.min_contact_distance > 0
+            iterations += d.newton_iterations
+        assert iterations <= 2000
+        hits, d_min, low = wc.coal_check(world)
+        assert hits == 0 and d_min > 0 and low > 0

@@ -241,7 +241,8 @@ void bind_friction(py::module_& m) {
 
   m.def(
       "friction_potential",
-      [](const VecX& dx, const VecX& weights, const Mat3x2& basis, double mu_lambda, double eps) {
+      [](const VecX& dx, const VecX& weights, const Mat3x2& basis, double mu_lambda, double eps,
+         bool majorize) {
         if (weights.size() < 1 || weights.size() > kMaxStencilVertices ||
             dx.size() != 3 * weights.size())
           throw std::invalid_argument("friction_potential: need 1..4 weights and 3 dx per weight");
@@ -250,11 +251,13 @@ void bind_friction(py::module_& m) {
           throw std::invalid_argument(
               "friction_potential: dx, weights, basis and mu_lambda must be finite, eps > 0");
         const FrictionDerivatives r =
-            friction_potential(dx, weights, basis, mu_lambda, eps, 2);
+            friction_potential(dx, weights, basis, mu_lambda, eps, 2, majorize);
         return py::make_tuple(r.value, VecX(r.grad), Eigen::MatrixXd(r.hess));
       },
       py::arg("dx"), py::arg("weights"), py::arg("basis"), py::arg("mu_lambda"), py::arg("eps"),
-      "(value, gradient, hessian) of μλ f0(|Tᵀ Σ w_i Δx_i|) for one stencil.");
+      py::arg("majorize") = false,
+      "(value, gradient, hessian) of μλ f0(|Tᵀ Σ w_i Δx_i|) for one stencil (majorize: the "
+      "Hessian of the quadratic model that bounds it from above).");
 }
 
 void bind_ground(py::module_& m) {

@@ -34,9 +34,10 @@ bool same_friction(const std::vector<FrictionStencil>& a, const std::vector<Fric
 }
 
 StencilEnergy friction_energy(const FrictionStencil& f, const std::vector<Vec3>& x, double eps,
-                              int order) {
+                              int order, bool majorize) {
   const StencilVec dx = lagged_displacement(f, x);
-  const FrictionDerivatives d = friction_potential(dx, f.w, f.basis, f.mu_lambda, eps, order);
+  const FrictionDerivatives d =
+      friction_potential(dx, f.w, f.basis, f.mu_lambda, eps, order, majorize);
   return {d.value, d.grad, d.hess};
 }
 

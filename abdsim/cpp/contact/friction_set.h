@@ -27,8 +27,9 @@ std::vector<FrictionStencil> lag_friction(const ActiveSet& set, const std::vecto
 bool same_friction(const std::vector<FrictionStencil>& a, const std::vector<FrictionStencil>& b,
                    double rtol = 1e-3);
 
-// μλ f0(|Tᵀ Σ w_i (x_i − x_i^t)|; eps) with gradient and (PSD) Hessian in stencil coordinates.
+// μλ f0(|Tᵀ Σ w_i (x_i − x_i^t)|; eps) with gradient and (PSD) Hessian in stencil coordinates;
+// majorize: the Hessian of the model that bounds it from above (friction_potential.h).
 StencilEnergy friction_energy(const FrictionStencil& f, const std::vector<Vec3>& x, double eps,
-                              int order);
+                              int order, bool majorize = false);
 
 }  // namespace abd::contact

@@ -392,7 +392,9 @@ void IpcContactTerm::add_derivatives(const VecX& q, double scale, VecX* gradient
       });
   evaluate_in_order(
       int(friction_.size()), false, threads_,
-      [&](int i) { return friction_energy(friction_[i], set.x, friction_eps_, 2); },
+      [&](int i) {
+        return friction_energy(friction_[i], set.x, friction_eps_, 2, majorize_friction_);
+      },
       [&](int i, const StencilEnergy& e) {
         const FrictionStencil& f = friction_[i];
         if (gradient) add_stencil_gradient(mesh_, f.vertices, f.nv, e.grad, scale, *gradient);

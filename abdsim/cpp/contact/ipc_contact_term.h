@@ -188,6 +188,8 @@ class IpcContactTerm : public EnergyTerm {
   bool balances_stiffness() const override;
   void balance_stiffness(const VecX& q, const VecX& grad_rest) override;
   double energy_parameter() const override { return kappa_; }
+  // Friction's Hessian majorises it (friction/friction_potential.h) while on.
+  void set_majorizing_model(bool on) override { majorize_friction_ = on; }
   double reach() const override { return settings_.d_hat; }
   void update_clear(const VecX& q) override { set_no_active_pairs(q); }
 
@@ -295,6 +297,7 @@ class IpcContactTerm : public EnergyTerm {
   double step_scale() const { return potential_scale_ > 0.0 ? std::sqrt(potential_scale_) : dt_; }
   std::vector<contact::FrictionStencil> friction_;
   double friction_eps_ = 0.0;  // ε_v c
+  bool majorize_friction_ = false;  // see set_majorizing_model
   std::vector<Vec3> friction_ref_;  // vertex positions at the step's reference point
   std::vector<contact::DampingStencil> damping_;
   double dt_ = 0.01;

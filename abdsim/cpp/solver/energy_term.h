@@ -135,6 +135,15 @@ class EnergyTerm {
   // κ doubling): when it differs after an update, the solver evaluates Π again there.
   virtual double energy_parameter() const { return 0.0; }
 
+  // ---- Optional: a majorising model --------------------------------------------------
+  // A term whose energy can rise along a step far above what its Hessian's quadratic model
+  // predicts (smoothed dry friction: along a sliding direction the exact model is linear, and
+  // a step that stops the slide overshoots through the kink at zero sliding) may offer a
+  // Hessian whose quadratic model bounds its energy from above along any step. The solver
+  // asks for it (on = true) in the Newton iteration after a line search had to halve a step,
+  // and for the exact Hessian otherwise (an island only converges on exact models).
+  virtual void set_majorizing_model(bool /*on*/) {}
+
   // ---- Optional: splitting by body ---------------------------------------------------
   // A term made of elements that each involve one or two bodies (contact pairs, joints) can
   // say which bodies it couples. The solver then splits the bodies into independent groups

@@ -7,6 +7,12 @@
 // The 2×2 middle matrix is PSD analytically (eigenvalues f1/|u| ≥ 0 across u and f2 ≥ 0 along
 // it); we clamp its eigenvalue along u at zero so rounding cannot break that, which keeps the
 // whole Hessian PSD without an eigen-decomposition.
+// majorize: the middle matrix f1/|u| I instead (the eigenvalue along u raised to the one
+// across). Its quadratic model bounds D from above for every step: f0(√s) is concave in
+// s = |u|² (both pieces are, and f0 is C¹), so f0(|u|) ≤ f0(|u₀|) + f1(|u₀|)/(2|u₀|) (|u|² −
+// |u₀|²) (IRLS / Weiszfeld). The exact model is linear along a sliding u (f2 = 0), and a
+// Newton step that stops the slide overshoots through the kink, where D rises as 2μλ times
+// the overshoot above that line; the majorising model cannot.
 #pragma once
 #include "contact/stencil_types.h"
 
@@ -19,6 +25,7 @@ struct FrictionDerivatives {
 };
 
 FrictionDerivatives friction_potential(const StencilVec& dx, const StencilWeights& w,
-                                       const Mat3x2& T, double mu_lambda, double eps, int order);
+                                       const Mat3x2& T, double mu_lambda, double eps, int order,
+                                       bool majorize = false);
 
 }  // namespace abd::contact
