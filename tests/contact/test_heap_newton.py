@@ -83,39 +83,6 @@ def test_a_step_whose_refined_pieces_still_cross_is_accepted_at_eighths(wc):
     assert hits == 0 and d_min > 0 and low > 0
 
 
-def _old_line_crosses(term, q, dq, restarts=16, touching=1e-12):
-    """World::path_crosses before line_crosses: every pair restarted from the earliest CCD
-    stop, with a new swept query each time."""
-    t = 0.0
-    for k in range(restarts):
-        alpha = term.max_step(q + t * dq, (1.0 - t) * dq)
-        if alpha >= 1.0:
-            return k > 0 and term.min_distance(q + t * dq, touching) <= touching
-        t += (1.0 - t) * alpha
-    return True
-
-
-def test_line_crosses_restarts_only_the_pairs_it_did_not_clear():
-    """The straight-line check of a step (IpcContactTerm::line_crosses) queries once and
-    restarts only the pairs whose CCD stopped short, each from its own stop: the same answers
-    as restarting everything from the earliest stop with a query each time, on chords of a
-    landing heap spanning 1-8 steps, of which some cross and some do not."""
-    world = heap()
-    states = [world.q.copy()]
-    for _ in range(36):
-        world.step()
-        states.append(world.q.copy())
-    term = world.contact
-    answers = []
-    for span in (1, 4, 8):
-        for k in range(12, len(states) - span, 2):
-            q, dq = states[k], states[k + span] - states[k]
-            new = term.line_crosses(q, dq, 16, 1e-12)
-            assert new == _old_line_crosses(term, q, dq), f"states {k} -> {k + span}"
-            answers.append(new)
-    assert 0 < sum(answers) < len(answers)
-
-
 def test_a_landing_heap_takes_majorised_friction_steps_after_a_halving(wc):
     """The heap landing (20 boxes, steps 0-59, seeds 0 and 1): after a line search that had to
     halve a step, the next Newton iteration takes friction's majorising model
