@@ -27,9 +27,9 @@ namespace abd::dense {
 #define ABD_DENSE_LAMBDA_INLINE __attribute__((always_inline))
 #define ABD_DENSE_FLATTEN __attribute__((flatten))
 #else
-#define ABD_DENSE_FLATTEN
 #define ABD_DENSE_INLINE inline
 #define ABD_DENSE_LAMBDA_INLINE
+#define ABD_DENSE_FLATTEN
 #endif
 
 // f(std::integral_constant<int, J>()) for J = First..Last−1, in order, each call with its
@@ -157,7 +157,8 @@ ABD_DENSE_INLINE void lower_solve(const Mat12& L, const Vec12& inv_diagonal, Vec
 }
 
 // v ← L⁻ᵀ v over the leading n entries, from U (cholesky_forward's At): U v' = v / diag(L).
-ABD_DENSE_INLINE void upper_solve(const Mat12& U, const Vec12& inv_diagonal, Vec12& v, int n = 12) {
+ABD_DENSE_INLINE void upper_solve(const Mat12& U, const Vec12& inv_diagonal, Vec12& v,
+                                  int n = 12) {
   v = v.cwiseProduct(inv_diagonal);  // 1 past n
   for (int j = n - 1; j > 0; --j) v.noalias() -= v[j] * U.col(j);
 }
