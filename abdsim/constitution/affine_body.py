@@ -57,15 +57,34 @@ class AffineBodyConstitution:
 
     # -- energy ---------------------------------------------------------------------------
     def energy(
-        self, q: np.ndarray, kappa: float, volume: float, project_psd: bool = False
+        self,
+        q: np.ndarray,
+        kappa: float,
+        volume: float,
+        project_psd: bool = False,
+        absorb: float = 0.0,
     ) -> ShapeEnergy:
-        """Shape energy κ v̄ Ψ(A) at ``q = [p, a1, a2, a3]`` with gradient and Hessian."""
+        """Shape energy κ v̄ Ψ(A) at ``q = [p, a1, a2, a3]`` with gradient and Hessian.
+
+        Args:
+            project_psd: clamp the Hessian's negative eigenvalues to zero.
+            absorb: with ``project_psd``, a lower bound on the smallest eigenvalue of the
+                matrix the Hessian is added to (the simulator passes half the smallest
+                eigenvalue of the body's mass matrix): the OrthoPotential's clamp is skipped
+                when κ v̄ times a bound on its negative eigenvalues is within it, and the
+                exact Hessian is returned (the sum stays positive definite).
+        """
         qa = np.asarray(q, dtype=np.float64).reshape(-1)
         if qa.shape != (12,):
             raise ValueError(f"q must have 12 entries [p, a1, a2, a3], got shape {np.shape(q)}")
         if not np.isfinite(qa).all():
             raise ValueError("q contains NaN or infinite values")
-        value, g, h = _core.shape_energy(self.uid, qa, float(kappa), float(volume), project_psd)
+        absorb = float(absorb)
+        if not (np.isfinite(absorb) and absorb >= 0.0):
+            raise ValueError(f"absorb must be finite and >= 0, got {absorb}")
+        value, g, h = _core.shape_energy(
+            self.uid, qa, float(kappa), float(volume), project_psd, absorb
+        )
         return ShapeEnergy(float(value), np.asarray(g), np.asarray(h))
 
     # -- attributes -----------------------------------------------------------------------

@@ -71,9 +71,14 @@ def test_world_log_carries_the_contact_forces(tmp_path):
     (w,) = last["wrenches"]
     assert w["name"] == name
     np.testing.assert_array_equal(w["force"] + w["torque"], world.contact_wrenches()[0])
-    # while it slides (it stops within 0.1 s) the logged friction opposes the motion
+    # while it slides (it stops within 0.1 s) the logged friction opposes the motion: along
+    # −x, tangent to the ground (z exactly 0), and across the slide (y) at round-off only.
+    # The triangulated box is mirror-symmetric in y only to round-off (its y-odd dofs hold
+    # ~1e-19 after the first step, ~1e-16 once the exact shape Hessian carries them), so
+    # the four contacts' y-forces cancel to round-off of the friction force, not to 0.0.
     friction = np.sum([p["friction_force"] for p in msgs[2]["contacts"]], axis=0)
-    assert friction[0] < -1.0 and friction[1] == friction[2] == 0.0
+    assert friction[0] < -1.0 and friction[2] == 0.0
+    assert abs(friction[1]) < 1e-12 * abs(friction[0])
 
 
 def test_contact_arrows_decode_with_the_forces(tmp_path):

@@ -149,3 +149,39 @@ def test_projection_of_near_rotations_stretched_and_compressed(rng, random_rotat
                 elif lam.min() < -1e-12 * lam.max():
                     clamped_cases += 1
     assert skipped == 24 and clamped_cases >= 12
+
+
+def test_absorbed_negative_curvature_keeps_the_exact_hessian(rng, random_rotation):
+    """The simulator adds the shape Hessian to the body's mass matrix and passes half its
+    smallest eigenvalue as `absorb`. Where κ v̄ times the bound 4 (1 − μ_lb) on the negative
+    eigenvalues of ∇²Ψ (μ_lb: Gershgorin's lower bound on the eigenvalues of AᵀA) is within
+    it, the clamp is skipped: the exact Hessian to the bit, and the bound holds (numpy's
+    eigvalsh); below it, numpy's clamp as without `absorb`."""
+    c = abdsim.AffineBodyConstitution("OrthoPotential")
+    exact_cases = clamped_cases = 0
+    for eps in (1e-7, 1e-5, 1e-3):
+        for _ in range(8):
+            sigma = 1.0 + eps * rng.uniform(-1.0, 0.3, 3)  # compressed: negative modes
+            A = random_rotation(rng) @ np.diag(sigma) @ random_rotation(rng).T
+            q = q_of(A)
+            H = c.energy(q, KAPPA, VOLUME).hessian
+            lam = np.linalg.eigvalsh(H)
+            M = A.T @ A
+            mu_lb = min(M[i, i] - sum(abs(M[i, j]) for j in range(3) if j != i) for i in range(3))
+            bound = KAPPA * VOLUME * 4.0 * max(0.0, 1.0 - mu_lb)
+            assert lam.min() >= -bound * (1 + 1e-9) - 1e-9 * lam.max()
+            if lam.min() > -1e-12 * lam.max():
+                continue  # nothing to clamp at this sample
+            # 1.01 and 0.99: clear of the last bits of the bound as C++ computes it
+            big = c.energy(q, KAPPA, VOLUME, project_psd=True, absorb=1.01 * bound).hessian
+            assert np.array_equal(big, H)
+            exact_cases += 1
+            small = c.energy(q, KAPPA, VOLUME, project_psd=True, absorb=0.99 * bound).hessian
+            lam_h, vec = np.linalg.eigh(H)
+            clamp = (vec * np.maximum(lam_h, 0.0)) @ vec.T
+            np.testing.assert_allclose(small, clamp, atol=1e-9 * np.abs(lam_h).max())
+            assert not np.array_equal(small, H)
+            clamped_cases += 1
+    assert exact_cases == clamped_cases >= 20
+    with pytest.raises(ValueError, match="absorb"):
+        c.energy(np.r_[0, 0, 0, np.eye(3).ravel()], KAPPA, VOLUME, True, absorb=-1.0)

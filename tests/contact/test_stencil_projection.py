@@ -64,6 +64,7 @@ def test_projected_stencil_hessian_matches_ipctk(scenes, case):
     H, expected = result
     np.testing.assert_allclose(H, expected, rtol=0, atol=1e-9 * np.abs(expected).max())
 
+
 def _projection_against_ipctk(scenes, geoms, q, kind):
     """(projected Hessian, ipctk's projection of the exact one, both in body space), or None
     when the pair is not the only active stencil or its Hessian is already PSD."""

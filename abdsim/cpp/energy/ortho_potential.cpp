@@ -4,6 +4,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace abd {
 namespace {
@@ -80,6 +81,19 @@ bool no_negative_modes(const Mat3& AtA) {
   return psd3(minus_bound) && psd3(diagonal_modes);
 }
 
+// A bound on how far below zero the eigenvalues of ∇²Ψ reach, from M = AᵀA without its
+// eigen-solve: with μ the eigenvalues of M, the "−" modes are at least 2(μ_i + μ_j − 2) (see
+// no_negative_modes) and the diagonal ones 12μ_i − 4, both >= 4(μ_min − 1) when μ_min >= 0;
+// Gershgorin's discs bound μ_min from below. Infinite when that bound is negative.
+double negative_curvature_bound(const Mat3& AtA) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 3; ++i)
+    lowest = std::min(lowest, AtA(i, i) - std::abs(AtA(i, (i + 1) % 3)) -
+                                  std::abs(AtA(i, (i + 2) % 3)));
+  if (!(lowest >= 0.0)) return std::numeric_limits<double>::infinity();
+  return 4.0 * std::max(0.0, 1.0 - lowest);
+}
+
 }  // namespace
 
 double ortho_potential(const Mat3& A) {
@@ -110,10 +124,11 @@ Mat9 ortho_potential_hessian_psd(const Mat3& A) {
 
 namespace {
 
-// The projection above, given AᵀA and R = AAᵀ − I (the caller has them). A mode's direction
-// is built only when its eigenvalue is negative (near rest: some of the three rotational
-// modes, the others never).
-Mat9 hessian_psd_from(const Mat3& A, const Mat3& AtA, const Mat3& R) {
+// The negative modes of ∇²Ψ (the eigen-system above): remove(λ, e) for each eigenvalue
+// λ < 0 with its unit direction e, given AᵀA. A mode's direction is built only when its
+// eigenvalue is negative (near rest: some of the three rotational modes, the others never).
+template <class Remove>
+void for_negative_modes(const Mat3& A, const Mat3& AtA, Remove&& remove) {
   Mat3 U, V;
   Vec3 s;
   // V and Σ² from AᵀA in closed form (cheap; the simulator calls this in its inner loop),
@@ -131,8 +146,6 @@ Mat9 hessian_psd_from(const Mat3& A, const Mat3& AtA, const Mat3& R) {
     V = svd.matrixV();
     s = svd.singularValues();
   }
-  Mat9 H = hessian_from(A, AtA, R);
-  auto remove = [&](double lambda, const Vec9& e) { H.noalias() -= lambda * e * e.transpose(); };
   for (int i = 0; i < 3; ++i) {
     const double lambda = 12.0 * s[i] * s[i] - 4.0;
     if (lambda < 0.0) remove(lambda, flatten_rows(U.col(i) * V.col(i).transpose()));
@@ -148,22 +161,52 @@ Mat9 hessian_psd_from(const Mat3& A, const Mat3& AtA, const Mat3& R) {
       if (plus < 0.0) remove(plus, flatten_rows(inv_sqrt2 * (Eij + Eji)));
       if (minus < 0.0) remove(minus, flatten_rows(inv_sqrt2 * (Eij - Eji)));
     }
+}
+
+// The projection above, given AᵀA and R = AAᵀ − I (the caller has them).
+Mat9 hessian_psd_from(const Mat3& A, const Mat3& AtA, const Mat3& R) {
+  Mat9 H = hessian_from(A, AtA, R);
+  for_negative_modes(A, AtA, [&](double lambda, const Vec9& e) {
+    H.noalias() -= lambda * e * e.transpose();
+  });
   return H;
+}
+
+// ws·∇²Ψ added to a body's 12x12 block H (A's rows: its entries 3..11) in one pass: entry
+// (3i + a, 3j + b) of the 9x9 block takes 4 ws (A_ja A_ib [+ (AᵀA)_ab if i = j] [+ R_ij if
+// a = b]), hessian_from's sum, scaled where it is added instead of in a 9x9 temporary that is
+// then scaled and added (a third of a Panda link's shape-energy instructions). Each pair of
+// blocks (i, j), (j, i) takes the same value: H stays symmetric to the bit when it was.
+void add_scaled_hessian(const Mat3& A, const Mat3& AtA, const Mat3& R, double ws, Mat12& H) {
+  const double s = 4.0 * ws;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j)
+      for (int b = 0; b < 3; ++b)
+        for (int a = 0; a < 3; ++a) {
+          double v = A(j, a) * A(i, b);
+          if (i == j) v += AtA(a, b);
+          if (a == b) v += R(i, j);
+          H(3 + 3 * i + a, 3 + 3 * j + b) += s * v;
+          if (j != i) H(3 + 3 * j + b, 3 + 3 * i + a) += s * v;
+        }
 }
 
 }  // namespace
 
-double ortho_potential_derivatives(const Mat3& A, bool project, double ws, Vec9* g, Mat9* H) {
+double ortho_potential_add_body_derivatives(const Mat3& A, bool project, double ws, Vec12& g,
+                                            Mat12* H, double absorb) {
   const Mat3 R = A * A.transpose() - Mat3::Identity();
-  if (g) *g += ws * flatten_rows(4.0 * R * A);
+  g.tail<9>() += ws * flatten_rows(4.0 * R * A);
   if (H) {
     // R PSD: the Hessian is PSD as it stands (see hessian_from); nor does it need the clamp
     // when no mode can be negative; else clamp.
     const Mat3 AtA = A.transpose() * A;
-    if (!project || psd3(R) || no_negative_modes(AtA))
-      *H += ws * hessian_from(A, AtA, R);
-    else
-      *H += ws * hessian_psd_from(A, AtA, R);
+    add_scaled_hessian(A, AtA, R, ws, *H);
+    if (project && !psd3(R) && !no_negative_modes(AtA) &&
+        !(ws * negative_curvature_bound(AtA) <= absorb))
+      for_negative_modes(A, AtA, [&](double lambda, const Vec9& e) {
+        H->bottomRightCorner<9, 9>().noalias() -= (ws * lambda) * e * e.transpose();
+      });
   }
   return R.squaredNorm();
 }

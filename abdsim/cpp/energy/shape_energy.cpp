@@ -24,17 +24,14 @@ double shape_energy_value(int uid, const Vec12& q, double kappa, double volume) 
 }
 
 ShapeEnergyResult shape_energy(int uid, const Vec12& q, double kappa, double volume,
-                               bool project_psd, bool want_hessian) {
+                               bool project_psd, bool want_hessian, double absorb) {
   check_uid(uid);
   const Mat3 A = affine_A(q);
   const double w = kappa * volume;
   ShapeEnergyResult r;
   if (uid == kOrthoPotential) {
-    Vec9 g = Vec9::Zero();
-    Mat9 H = Mat9::Zero();
-    r.value = w * ortho_potential_derivatives(A, project_psd, w, &g, want_hessian ? &H : nullptr);
-    r.gradient.tail<9>() = g;
-    r.hessian.bottomRightCorner<9, 9>() = H;
+    r.value = w * ortho_potential_add_body_derivatives(A, project_psd, w, r.gradient,
+                                                       want_hessian ? &r.hessian : nullptr, absorb);
   } else {
     r.value = w * arap(A);
     r.gradient.tail<9>() = w * arap_gradient(A);

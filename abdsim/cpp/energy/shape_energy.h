@@ -17,9 +17,12 @@ struct ShapeEnergyResult {
 };
 
 // Throws std::invalid_argument for an unknown uid. `project_psd` clamps the Hessian's
-// negative eigenvalues (analytically for ARAP, numerically for OrthoPotential).
+// negative eigenvalues (analytically for ARAP, numerically for OrthoPotential). `absorb`:
+// what the simulator passes for a body (ShapeEnergyTerm::add_body_derivatives): the
+// OrthoPotential's clamp is skipped when κ v̄ times a bound on its negative eigenvalues is
+// within it (ortho_potential_add_body_derivatives).
 ShapeEnergyResult shape_energy(int uid, const Vec12& q, double kappa, double volume,
-                               bool project_psd, bool want_hessian = true);
+                               bool project_psd, bool want_hessian = true, double absorb = 0.0);
 
 double shape_energy_value(int uid, const Vec12& q, double kappa, double volume);
 

@@ -30,18 +30,12 @@ double ShapeEnergyTerm::body_value(int b, const Vec12& q) const {
 }
 
 double ShapeEnergyTerm::add_body_derivatives(int b, const Vec12& q, double scale, Vec12& g,
-                                             Mat12& H) const {
+                                             Mat12& H, double absorb) const {
   const Mat3 A = affine_A(q);
   const double w = weight_[b];
   const double ws = w * scale;
-  if (uid_[b] == kOrthoPotential) {
-    Vec9 g9 = Vec9::Zero();
-    Mat9 H9 = Mat9::Zero();
-    const double psi = ortho_potential_derivatives(A, project_psd_, ws, &g9, &H9);
-    g.tail<9>() += g9;
-    H.bottomRightCorner<9, 9>() += H9;
-    return w * psi;
-  }
+  if (uid_[b] == kOrthoPotential)
+    return w * ortho_potential_add_body_derivatives(A, project_psd_, ws, g, &H, absorb);
   g.tail<9>() += ws * arap_gradient(A);
   H.bottomRightCorner<9, 9>() += ws * arap_hessian(A, project_psd_);
   return w * arap(A);

@@ -20,8 +20,12 @@ class ShapeEnergyTerm : public EnergyTerm {
 
   int num_bodies() const { return static_cast<int>(uid_.size()); }
   double body_value(int b, const Vec12& q) const;
-  // Adds scale * ∇E_b to g and scale * (PSD) ∇²E_b to H; returns E_b.
-  double add_body_derivatives(int b, const Vec12& q, double scale, Vec12& g, Mat12& H) const;
+  // Adds scale * ∇E_b to g and scale * (PSD) ∇²E_b to H; returns E_b. `absorb`: a lower
+  // bound on the smallest eigenvalue of what H holds already (the kinetic term's): the
+  // OrthoPotential's clamp of negative eigenvalues is skipped when they are provably smaller
+  // than that, so that H stays positive definite with the exact Hessian added.
+  double add_body_derivatives(int b, const Vec12& q, double scale, Vec12& g, Mat12& H,
+                              double absorb = 0.0) const;
 
  private:
   std::vector<int> uid_;

@@ -42,6 +42,7 @@ World::World(const SceneData& scene, const SolverSettings& settings)
   q_dot_.resize(12 * n_);
   dyadic_.resize(n_);
   mass_matrix_.resize(n_);
+  mass_floor_.resize(n_);
   fixed_.resize(n_);
   dynamic_.resize(n_);
   external_kinetic_.resize(n_);
@@ -74,6 +75,9 @@ World::World(const SceneData& scene, const SolverSettings& settings)
                           "); a flat or degenerate body needs a thickness");
     dyadic_[b] = dm;
     mass_matrix_[b] = dm.matrix();
+    mass_floor_[b] =
+        0.5 * Eigen::SelfAdjointEigenSolver<Mat12>(mass_matrix_[b], Eigen::EigenvaluesOnly)
+                  .eigenvalues()[0];
     q_.segment<12>(12 * b) = body.q;
     q_dot_.segment<12>(12 * b) = body.is_fixed ? Vec12::Zero() : body.q_dot;
     fixed_[b] = body.is_fixed;

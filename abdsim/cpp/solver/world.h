@@ -246,6 +246,9 @@ class World {
   int threads_ = 1;
   std::vector<DyadicMass> dyadic_;
   std::vector<Mat12> mass_matrix_;  // dyadic_[b].matrix(), built once (a constant per body)
+  // Half the smallest eigenvalue of mass_matrix_[b]: the negative curvature of the body's
+  // shape energy that its kinetic term absorbs (ShapeEnergyTerm::add_body_derivatives).
+  std::vector<double> mass_floor_;
   ShapeEnergyTerm shape_;
   std::vector<std::shared_ptr<EnergyTerm>> terms_;
   std::shared_ptr<IpcContactTerm> contact_;

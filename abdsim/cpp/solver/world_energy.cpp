@@ -40,7 +40,9 @@ double World::body_energy(int b, const Vec12& x, double c2, Vec12* g, Mat12* H) 
     gb.setZero();
     Hb.setZero();
   }
-  e += c2 * shape_.add_body_derivatives(b, x, c2, gb, Hb);
+  // The kinetic term's curvature absorbs a little negative curvature of the shape energy's:
+  // the block stays positive definite without the shape Hessian's projection there.
+  e += c2 * shape_.add_body_derivatives(b, x, c2, gb, Hb, kinetic ? mass_floor_[b] : 0.0);
   if (driven_[b]) {
     const double s = settings_.kinematic_drive_stiffness;
     e *= s;
