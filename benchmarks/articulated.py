@@ -14,7 +14,9 @@ default; abdsim's ``SceneSettings.energies`` is turned off here; --energies turn
 Reports steps/s of each, their ratio and abdsim's largest joint violation
 (a second, step-by-step run). On a shared machine wall-clock rates swing with the load: the
 ratio of CPU times (process time of each run) is printed too, and each engine's run is
-repeated (--repeat, from the same start) with its fastest repetition reported.
+repeated (--repeat, from the same start), the two engines' runs alternating so that a slow
+spell falls on both, with each engine's fastest repetition reported (timeit's rule: the
+fastest run is the one least disturbed by the rest of the machine).
 
 --profile adds where abdsim's step goes (StepDiagnostics of the timed run, per step): Newton
 iterations, assembly (bodies, shape energy and joint forces), the linear solve (the KKT system:
@@ -22,7 +24,7 @@ block-tree elimination for articulations), step bounds, line search, the terms' 
 rest of the C++ step (prediction, start iterate, constraint projection, diagnostics) and the
 Python overhead of ``World.step`` around it.
 
-Usage: python benchmarks/articulated.py [--steps 1000] [--repeat 3] [--profile]
+Usage: python benchmarks/articulated.py [--steps 1000] [--repeat 15] [--profile]
 """
 
 from __future__ import annotations
@@ -110,9 +112,7 @@ TIMERS = (
 )
 
 
-def run_abdsim(
-    model: pin.Model, q0: np.ndarray, actuated: bool, steps: int, repeat: int, energies: bool
-) -> dict:
+def abdsim_scene(model: pin.Model, q0: np.ndarray, actuated: bool, steps: int, energies: bool):
     scene = abdsim.Scene(dt=DT, integrator="bdf2", contact=False)
     scene.settings.history_limit = steps
     scene.settings.energies = energies
@@ -120,43 +120,55 @@ def run_abdsim(
     for j in scene.joints:
         if actuated:
             scene.add_actuator(j, "position", kp=KP, kv=KV)  # target 0: the loaded pose
-    wall = cpu = float("inf")
+    return scene
+
+
+def time_abdsim(scene: abdsim.Scene, steps: int) -> tuple[float, float, list]:
+    """One timed run from the scene's start: wall and CPU seconds, and its diagnostics."""
+    world = abdsim.World(scene)
+    t0, c0 = time.perf_counter(), time.process_time()
+    world.step(steps)
+    return time.perf_counter() - t0, time.process_time() - c0, world.history
+
+
+def time_mujoco(m: mujoco.MjModel, q0: np.ndarray, actuated: bool, steps: int) -> tuple:
+    """One timed run of MuJoCo from q0: wall and CPU seconds."""
+    d = mujoco.MjData(m)
+    d.qpos[:] = q0
+    if actuated:
+        d.ctrl[:] = q0
+    t0, c0 = time.perf_counter(), time.process_time()
+    mujoco.mj_step(m, d, nstep=steps)
+    return time.perf_counter() - t0, time.process_time() - c0
+
+
+def compare(
+    model: pin.Model, q0: np.ndarray, actuated: bool, steps: int, repeat: int, energies: bool
+) -> tuple[dict, dict]:
+    """Both engines' fastest of `repeat` runs, the runs alternating (abdsim, MuJoCo, abdsim,
+    ...) so that a slow spell of a shared machine falls on both; then abdsim's largest joint
+    violation over a step-by-step run."""
+    scene = abdsim_scene(model, q0, actuated, steps, energies)
+    m = mujoco.MjModel.from_xml_string(mjcf(model, actuated))
+    ours = {"wall": float("inf"), "cpu": float("inf")}
+    theirs = {"wall": float("inf"), "cpu": float("inf")}
     for _ in range(repeat):
-        world = abdsim.World(scene)
-        t0, c0 = time.perf_counter(), time.process_time()
-        world.step(steps)
-        w, c = time.perf_counter() - t0, time.process_time() - c0
-        if c < cpu:
-            wall, cpu, history = w, c, world.history
+        w, c, history = time_abdsim(scene, steps)
+        if c < ours["cpu"]:
+            ours.update(wall=w, cpu=c, history=history)
+        w, c = time_mujoco(m, q0, actuated, steps)
+        if c < theirs["cpu"]:
+            theirs.update(wall=w, cpu=c)
     world = abdsim.World(scene)
     worst = 0.0
     for _ in range(steps):
         d = world.step()
         worst = max(worst, d.joint_violation)
-    return {
-        "rate": steps / wall,
-        "cpu": cpu,
-        "wall": wall,
-        "violation": worst,
-        "moved": np.abs(world.joint_positions()).max(),
-        "history": history,
-    }
-
-
-def run_mujoco(model: pin.Model, q0: np.ndarray, actuated: bool, steps: int, repeat: int) -> dict:
-    m = mujoco.MjModel.from_xml_string(mjcf(model, actuated))
-    wall = cpu = float("inf")
-    for _ in range(repeat):
-        d = mujoco.MjData(m)
-        d.qpos[:] = q0
-        if actuated:
-            d.ctrl[:] = q0
-        t0, c0 = time.perf_counter(), time.process_time()
-        mujoco.mj_step(m, d, nstep=steps)
-        w, c = time.perf_counter() - t0, time.process_time() - c0
-        if c < cpu:
-            wall, cpu = w, c
-    return {"rate": steps / wall, "cpu": cpu}
+    ours.update(
+        rate=steps / ours["wall"], violation=worst, moved=np.abs(world.joint_positions()).max()
+    )
+    theirs["rate"] = steps / theirs["wall"]
+    return ours, theirs
 
 
 def print_profile(run: dict) -> None:
@@ -179,7 +191,9 @@ def print_profile(run: dict) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=1000)
-    parser.add_argument("--repeat", type=int, default=3, help="runs per engine (fastest kept)")
+    parser.add_argument(
+        "--repeat", type=int, default=15, help="runs per engine, alternating (fastest kept)"
+    )
     parser.add_argument("--profile", action="store_true", help="where abdsim's step goes")
     parser.add_argument(
         "--energies", action="store_true", help="abdsim evaluates its step-end energies"
@@ -201,8 +215,7 @@ def main() -> None:
         f"{'CPU ratio':>9s} {'max violation (m)':>18s} {'max |q - q0|':>13s}"
     )
     for name, model, q0, actuated in cases:
-        ours = run_abdsim(model, q0, actuated, args.steps, max(args.repeat, 1), args.energies)
-        theirs = run_mujoco(model, q0, actuated, args.steps, max(args.repeat, 1))
+        ours, theirs = compare(model, q0, actuated, args.steps, max(args.repeat, 1), args.energies)
         print(
             f"{name:30s} {ours['rate']:15.0f} {theirs['rate']:15.0f} "
             f"{ours['rate'] / theirs['rate']:7.3f} {theirs['cpu'] / ours['cpu']:9.3f} "
