@@ -202,8 +202,9 @@ double ortho_potential_add_body_derivatives(const Mat3& A, bool project, double 
     // when no mode can be negative; else clamp.
     const Mat3 AtA = A.transpose() * A;
     add_scaled_hessian(A, AtA, R, ws, *H);
-    if (project && !psd3(R) && !no_negative_modes(AtA) &&
-        !(ws * negative_curvature_bound(AtA) <= absorb))
+    // The cheapest test first (the kinetic term's absorb holds for a body near rest).
+    if (project && !(ws * negative_curvature_bound(AtA) <= absorb) && !psd3(R) &&
+        !no_negative_modes(AtA))
       for_negative_modes(A, AtA, [&](double lambda, const Vec9& e) {
         H->bottomRightCorner<9, 9>().noalias() -= (ws * lambda) * e * e.transpose();
       });

@@ -111,8 +111,11 @@ ConstraintViolation JointSet::violation(const VecX& q) const {
 bool JointSet::cache_holds(int j, const VecX& q) const {
   const JointFrame& f = frames_[j];
   const CoordinateCache& cached = coordinate_cache_[j];
-  return cached.valid && cached.qc == body_q(q, f.spec.child) &&
-         cached.qp == body_q(q, f.spec.parent);
+  // The world (body −1) is always the identity state: nothing to compare there.
+  auto same = [&](const Vec12& state, int b) {
+    return b < 0 || same_bits(state.data(), q.data() + 12 * b, 12);
+  };
+  return cached.valid && same(cached.qc, f.spec.child) && same(cached.qp, f.spec.parent);
 }
 
 double JointSet::coordinate(int j, const VecX& q, Vec12* grad_child, Vec12* grad_parent) const {

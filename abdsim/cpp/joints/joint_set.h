@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "common/same_bits.h"
 #include "joints/joint_spec.h"
 #include "solver/constraint.h"
 #include "solver/scene_data.h"
@@ -42,7 +43,7 @@ class JointSet : public Constraint {
   VecX positions(const VecX& q) const;
   VecX velocities(const VecX& q, const VecX& q_dot) const;
   // Whether q is the state of the last end_step, where positions() reads last_angle().
-  bool at_last_end_step(const VecX& q) const { return last_q_.size() == q.size() && last_q_ == q; }
+  bool at_last_end_step(const VecX& q) const { return same_bits(last_q_, q); }
   // Joint j's unwrapped hinge angle at the last end_step (0 for other joints).
   double last_angle(int j) const { return last_angle_[j]; }
   // Restarts the unwrapping from q (after a teleport).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/same_bits.h"
 #include "solver/world.h"
 
 namespace abd {
@@ -23,12 +24,12 @@ void World::constraint_rows(const VecX& x, std::vector<ConstraintRow>& rows) con
 }
 
 void World::newton_constraint_rows(std::vector<ConstraintRow>& rows) {
-  if (projection_rows_valid_ && projection_rows_x_.size() == x_.size() && projection_rows_x_ == x_) {
+  if (projection_rows_valid_ && same_bits(projection_rows_x_, x_)) {
     rows.swap(projection_rows_);  // the next projection check refills projection_rows_
     projection_rows_valid_ = false;
     return;
   }
-  if (constraint_values_x_.size() == x_.size() && constraint_values_x_ == x_) {
+  if (same_bits(constraint_values_x_, x_)) {
     // The projection check's values at this x_ (the start, when it was on the constraints):
     // the same numbers linearize() would compute.
     rows.clear();
