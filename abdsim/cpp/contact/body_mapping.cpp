@@ -77,9 +77,11 @@ void BodyBlockAccumulator::add_stencil(const ContactMesh& mesh, const std::array
 }
 
 void BodyBlockAccumulator::flush_into(std::vector<BodyBlock>& out) {
-  out.insert(out.end(), blocks_.begin(), blocks_.end());
-  blocks_.clear();
-  index_.clear();
+  if (out.empty())
+    out.swap(blocks_);  // blocks_ takes out's (empty) storage for the next evaluation
+  else
+    out.insert(out.end(), blocks_.begin(), blocks_.end());
+  clear();
 }
 
 }  // namespace abd::contact

@@ -22,13 +22,21 @@ void add_stencil_gradient(const ContactMesh& mesh, const std::array<int, 4>& ver
                           const StencilVec& g, double scale, VecX& gradient);
 
 // Sums stencil Hessians into one block per (row body, column body), in the order the blocks
-// are first touched: the same stencils in the same order give bit-identical output.
+// are first touched: the same stencils in the same order give bit-identical output. Kept
+// from one evaluation to the next, it keeps its storage (a heap of 100 boxes assembles ~600
+// blocks of 1.2 kB per Newton iteration).
 class BodyBlockAccumulator {
  public:
   void add_stencil(const ContactMesh& mesh, const std::array<int, 4>& vertices, int nv,
                    const StencilMat& H, double scale);
-  // Appends the accumulated blocks to `out` and clears the accumulator.
+  // Appends the accumulated blocks to `out` (swapped in when `out` is empty: no copy) and
+  // clears the accumulator.
   void flush_into(std::vector<BodyBlock>& out);
+  // Drops what was added (keeping the storage).
+  void clear() {
+    blocks_.clear();
+    index_.clear();
+  }
 
  private:
   size_t block_index(int row, int col);

@@ -77,7 +77,10 @@ void IpcContactTerm::body_max_steps(const VecX& q, const VecX& dq,
       near[body] = 1;
       bound[body] = std::min(bound[body], sweep.toi[size_t(i)]);
     }
-    if (b >= 0 && a != b && movable[a] && movable[b]) links.push_back({a, b});
+    // Candidates come sorted by primitive, so one body pair's run of them would repeat its
+    // link hundreds of times (a heap of 100 boxes: ~2,800 candidates a sweep): one suffices.
+    const bool repeat = !links.empty() && links.back().a == a && links.back().b == b;
+    if (b >= 0 && a != b && movable[a] && movable[b] && !repeat) links.push_back({a, b});
   }
 }
 

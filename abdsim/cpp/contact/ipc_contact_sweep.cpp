@@ -4,6 +4,7 @@
 // move is shortened for the bodies that move farthest until the query fits: a shorter move
 // still gives conservative step bounds (the solver never steps past a body's checked part).
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <sstream>
 
@@ -148,10 +149,19 @@ IpcContactTerm::Sweep IpcContactTerm::bounded_sweep(const VecX& q, const VecX& d
       moving = moving || p0[size_t(k)] != p1[size_t(k)];
     }
     double gap0 = std::numeric_limits<double>::quiet_NaN();  // CCD's d − ξ at the start
+    CcdOptions::Moves moves;  // and its bound on the sides' moves
     CcdOptions o = options;
-    if (keep_reach) o.start_gap = &gap0;
-    out.toi[size_t(i)] = m * (moving ? stencil_toi(s, p0, p1, settings_.ground_height, o) : 1.0);
     if (keep_reach) {
+      o.start_gap = &gap0;
+      o.moves = &moves;
+    }
+    out.toi[size_t(i)] = m * (moving ? stencil_toi(s, p0, p1, settings_.ground_height, o) : 1.0);
+    if (keep_reach && s.kind != StencilKind::PointGround && !std::isnan(gap0) &&
+        (s.bodies[1] < 0 || out.scale[size_t(s.bodies[0])] == out.scale[size_t(s.bodies[1])])) {
+      // Both sides along one checked move, the CCD's: its gap and moves are the bound's.
+      out.reach[size_t(i)] =
+          path_reach_from_ccd(s, x0, gap0, moves.first, moves.second, moves.common);
+    } else if (keep_reach) {
       for (int k = 0; k < s.nv; ++k) {
         const int v = s.vertices[size_t(k)];
         const double sb = out.scale[size_t(mesh_.vertex_body[v])];

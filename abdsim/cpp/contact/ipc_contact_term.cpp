@@ -381,7 +381,8 @@ void IpcContactTerm::add_derivatives(const VecX& q, double scale, VecX* gradient
   ActiveSet scratch;
   const ActiveSet& set = active_set_at(q, scratch);
   const BarrierParams p = barrier_params(kappa_);
-  BodyBlockAccumulator acc;
+  BodyBlockAccumulator& acc = block_accumulator_;
+  acc.clear();  // a throw left part of an evaluation in it
   evaluate_in_order(
       int(set.stencils.size()), true, threads_,
       [&](int i) { return stencil_barrier(set.stencils[i], set.x, p, 2); },

@@ -30,6 +30,7 @@
 #include "common/stopwatch.h"
 #include "contact/active_set.h"
 #include "contact/barrier/adaptive_stiffness.h"
+#include "contact/body_mapping.h"
 #include "contact/broad_phase/broad_phase.h"
 #include "contact/contact_force.h"
 #include "contact/contact_mesh.h"
@@ -277,6 +278,8 @@ class IpcContactTerm : public EnergyTerm {
   // bounded_sweep's vertex buffers, kept to spare a large allocation per sweep (the term is
   // never evaluated from two threads at once).
   mutable std::vector<Vec3> sweep_start_, sweep_end_;
+  // add_derivatives' per-body-pair sums, kept for their storage (cleared at each call).
+  mutable contact::BodyBlockAccumulator block_accumulator_;
   // The q of sweep_end_ (the end q + dq of the last sweep): the line search's first full step
   // is that very point, whose vertices vertices_at then takes from there.
   mutable VecX sweep_end_q_;

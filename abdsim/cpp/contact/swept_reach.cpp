@@ -9,6 +9,8 @@ namespace {
 // Relative allowance on reach: rounding of the trial's vertices (computed from q, not as
 // x0 + t Δ) and of the distances is ~1e-16 of the coordinates, far below it.
 constexpr double kRelativeSlack = 1e-2;
+// Absolute allowance, per unit of the coordinates' magnitude.
+constexpr double kAbsoluteSlack = 1e-10;
 }  // namespace
 
 PathReach path_reach(const ContactStencil& s, const std::vector<Vec3>& x0,
@@ -46,7 +48,26 @@ PathReach path_reach(const ContactStencil& s, const std::vector<Vec3>& x0,
     r.common = c.norm();
     size += r.move_a + r.move_b + r.common;
   }
-  r.slack = 1e-10 * size;
+  r.slack = kAbsoluteSlack * size;
+  return r;
+}
+
+PathReach path_reach_from_ccd(const ContactStencil& s, const std::vector<Vec3>& x0, double gap0,
+                              double move_a, double move_b, double common) {
+  PathReach r;
+  r.bodies = s.bodies;
+  if (!(gap0 > 0.0)) {  // within the thickness already: always in the active set
+    r.gap0 = -std::numeric_limits<double>::infinity();
+    return r;
+  }
+  r.gap0 = gap0;
+  r.move_a = move_a;
+  r.move_b = move_b;
+  r.common = common;
+  double size = 0.0;
+  for (int i = 0; i < 4; ++i) size = std::max(size, x0[s.vertices[i]].cwiseAbs().maxCoeff());
+  size += r.move_a + r.move_b + r.common;
+  r.slack = kAbsoluteSlack * size;
   return r;
 }
 

@@ -38,6 +38,12 @@ PathReach path_reach(const ContactStencil& s, const std::vector<Vec3>& x0,
                      const std::array<Vec3, 4>& p1, double ground_height,
                      double known_gap = std::numeric_limits<double>::quiet_NaN());
 
+// The same from what the sweep's CCD computed along the pair's one checked move (both sides
+// moving by one fraction of their move, p1 as above): its gap d − ξ at x0 and its moves
+// (CcdOptions::moves), which are path_reach's to the bit, without computing them again.
+PathReach path_reach_from_ccd(const ContactStencil& s, const std::vector<Vec3>& x0, double gap0,
+                              double move_a, double move_b, double common);
+
 // The lowest gap the bound allows with the two sides at t_a and t_b of their moves.
 inline double lowest_gap(const PathReach& r, double ta, double tb) {
   return r.gap0 - ta * r.move_a - tb * r.move_b - std::abs(ta - tb) * r.common - r.slack;

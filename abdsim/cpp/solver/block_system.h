@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/SparseCore>
@@ -75,6 +76,9 @@ class BlockSystem {
   std::vector<std::uint8_t> fixed_;
   std::vector<Mat12> diag_;
   std::vector<OffDiagonal> offdiag_;
+  // finalize()'s scratch: (row, col) keys with the blocks' positions, and the sorted blocks.
+  std::vector<std::pair<std::uint64_t, std::size_t>> sort_keys_;
+  std::vector<OffDiagonal> sorted_;
   std::vector<HessianRow> soft_;
   std::vector<int> row_start_;  // CSR over offdiag_ after finalize()
 

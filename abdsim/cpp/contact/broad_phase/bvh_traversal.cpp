@@ -45,20 +45,20 @@ coal::AABB TreeBoxes::node(int i) const {
   return box;
 }
 
-void for_each_close_leaf_pair(const TreeBoxes& a, const TreeBoxes& b, double margin,
-                              const std::function<void(int, int)>& emit) {
-  struct Item {
-    int ia, ib;
-    coal::AABB ba, bb;
-  };
-  // Kept between calls (a query descends hundreds of tree pairs); pairs of boxes too far
-  // apart are dropped before they are pushed: the same pairs are emitted in the same order.
-  thread_local std::vector<Item> stack;
+namespace {
+
+// The dual-tree descent. An Item holds a pair of node indices (ia, ib); node_a(i) / node_b(i)
+// give a node's box when it is pushed, box_a(item) / box_b(item) the boxes of a popped item,
+// make(ia, ib, box a, box b) the Item pushed.
+template <class Item, class NodeA, class NodeB, class BoxA, class BoxB, class Make>
+void descend(const TreeBoxes& a, const TreeBoxes& b, double margin, std::vector<Item>& stack,
+             NodeA node_a, NodeB node_b, BoxA box_a, BoxB box_b, Make make,
+             const std::function<void(int, int)>& emit) {
   stack.clear();
   auto push = [&](int ia, int ib, const coal::AABB& ba, const coal::AABB& bb) {
-    if (boxes_within(ba, bb, margin)) stack.push_back({ia, ib, ba, bb});
+    if (boxes_within(ba, bb, margin)) stack.push_back(make(ia, ib, ba, bb));
   };
-  push(0, 0, a.node(0), b.node(0));
+  push(0, 0, node_a(0), node_b(0));
   while (!stack.empty()) {
     const Item it = stack.back();
     stack.pop_back();
@@ -67,14 +67,54 @@ void for_each_close_leaf_pair(const TreeBoxes& a, const TreeBoxes& b, double mar
     const bool leaf_a = na.isLeaf(), leaf_b = nb.isLeaf();
     if (leaf_a && leaf_b) {
       emit(na.primitiveId(), nb.primitiveId());
-    } else if (leaf_b || (!leaf_a && extent(it.ba) >= extent(it.bb))) {
-      push(na.rightChild(), it.ib, a.node(na.rightChild()), it.bb);
-      push(na.leftChild(), it.ib, a.node(na.leftChild()), it.bb);
+    } else if (leaf_b || (!leaf_a && extent(box_a(it)) >= extent(box_b(it)))) {
+      push(na.rightChild(), it.ib, node_a(na.rightChild()), box_b(it));
+      push(na.leftChild(), it.ib, node_a(na.leftChild()), box_b(it));
     } else {
-      push(it.ia, nb.rightChild(), it.ba, b.node(nb.rightChild()));
-      push(it.ia, nb.leftChild(), it.ba, b.node(nb.leftChild()));
+      push(it.ia, nb.rightChild(), box_a(it), node_b(nb.rightChild()));
+      push(it.ia, nb.leftChild(), box_a(it), node_b(nb.leftChild()));
     }
   }
+}
+
+}  // namespace
+
+void for_each_close_leaf_pair(const TreeBoxes& a, const TreeBoxes& b, double margin,
+                              const std::function<void(int, int)>& emit) {
+  // Stacks kept between calls (a query descends hundreds of tree pairs), each looked up once
+  // per call; pairs of boxes too far apart are dropped before they are pushed: the same pairs
+  // are emitted in the same order.
+  if (a.cached && b.cached) {
+    // Both trees' node boxes are cached (BroadPhase's small trees: a heap's boxes): the
+    // stack holds node indices only and the boxes are read where they are, instead of being
+    // copied into every stack entry and out again. The same boxes, tests and order.
+    struct Item {
+      int ia, ib;
+    };
+    thread_local std::vector<Item> tls_indices;
+    const coal::AABB* const ba = a.cached;
+    const coal::AABB* const bb = b.cached;
+    descend(
+        a, b, margin, tls_indices, [&](int i) -> const coal::AABB& { return ba[i]; },
+        [&](int i) -> const coal::AABB& { return bb[i]; },
+        [&](const Item& it) -> const coal::AABB& { return ba[it.ia]; },
+        [&](const Item& it) -> const coal::AABB& { return bb[it.ib]; },
+        [](int ia, int ib, const coal::AABB&, const coal::AABB&) { return Item{ia, ib}; }, emit);
+    return;
+  }
+  struct Item {
+    int ia, ib;
+    coal::AABB ba, bb;
+  };
+  thread_local std::vector<Item> tls_boxes;
+  descend(
+      a, b, margin, tls_boxes, [&](int i) { return a.node(i); }, [&](int i) { return b.node(i); },
+      [](const Item& it) -> const coal::AABB& { return it.ba; },
+      [](const Item& it) -> const coal::AABB& { return it.bb; },
+      [](int ia, int ib, const coal::AABB& ba, const coal::AABB& bb) {
+        return Item{ia, ib, ba, bb};
+      },
+      emit);
 }
 
 }  // namespace abd::contact

@@ -38,6 +38,7 @@ double additive_ccd(const std::array<Vec3, NV>& x0, const std::array<Vec3, NV>& 
 
   const double gap0 = gap_at(0.0);
   if (o.start_gap) *o.start_gap = gap0;
+  if (o.moves) *o.moves = {la, lb, mean.norm()};
   if (!(gap0 > 0.0)) return 0.0;
   const double g = o.target * gap0;
   double t = 0.0;

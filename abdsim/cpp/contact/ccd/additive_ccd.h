@@ -25,6 +25,13 @@ struct CcdOptions {
   // If set, receives the gap d − ξ at t = 0 whenever the primitives move (a caller that also
   // needs it, swept_reach.h, saves a distance); left as it is otherwise.
   double* start_gap = nullptr;
+  // If set, receives with start_gap the bound on how fast each side closes the gap: the
+  // largest vertex move of the first primitive's and of the second's after removing their
+  // mean move, and the length of that mean (what swept_reach.h's bound takes).
+  struct Moves {
+    double first = 0.0, second = 0.0, common = 0.0;
+  };
+  Moves* moves = nullptr;
 };
 
 double point_point_ccd(const Vec3& p0_t0, const Vec3& p1_t0, const Vec3& p0_t1,
