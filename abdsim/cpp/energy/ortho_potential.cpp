@@ -25,44 +25,9 @@ Vec9 flatten_rows(const Mat3& M) {
   return v;
 }
 
-// x·y rounded on its own: the compiler may not fuse it into the addition that follows (an
-// FMA rounds once), so an entry summed from it has the bits of the product formed first.
-inline double unfused_product(double x, double y) {
-  double p = x * y;
-#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
-  asm("" : "+x"(p));
-#elif defined(__GNUC__) && defined(__aarch64__)
-  asm("" : "+w"(p));
-#endif
-  return p;
-}
-
-// The exact Hessian, regrouped around R = AAᵀ − I:
-//   ∂²Ψ/∂a_i∂a_j = 4 a_j a_iᵀ + 4 δ_ij AᵀA + 4 R_ij I,
-// i.e. 2 JᵀJ + 4 (R ⊗ I₃) with J the Jacobian of AAᵀ: PSD whenever R is. Entry by entry,
-// (3i + a, 3j + b) = 4 (A_ja A_ib [+ (AᵀA)_ab if i = j] [+ R_ij if a = b]), the product
-// rounded first (as the outer product of Eigen blocks formed it, which took 2.5 times as
-// long: same bits). Block (j, i) is the transpose of block (i, j) to the bit (R is symmetric
-// to the bit, products commute), so each pair is built once.
-Mat9 hessian_from(const Mat3& A, const Mat3& AtA, const Mat3& R) {
-  Mat9 H;
-  for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j)
-      for (int b = 0; b < 3; ++b)
-        for (int a = 0; a < 3; ++a) {
-          double v = unfused_product(A(j, a), A(i, b));
-          if (i == j) v += AtA(a, b);
-          if (a == b) v += R(i, j);
-          H(3 * i + a, 3 * j + b) = 4.0 * v;
-          if (j != i) H(3 * j + b, 3 * i + a) = 4.0 * v;
-        }
-  return H;
-}
-
-Mat9 hessian_psd_from(const Mat3& A, const Mat3& AtA, const Mat3& R);
 
 // True when no eigenvalue of ∇²Ψ can be negative, told from M = AᵀA without its eigen-solve
-// (hessian_psd_from lists the modes: 12μ_i − 4 and 4(μ_i + μ_j − 1 ± σ_iσ_j), μ = σ² the
+// (for_negative_modes lists the modes: 12μ_i − 4 and 4(μ_i + μ_j − 1 ± σ_iσ_j), μ = σ² the
 // eigenvalues of M). As σ_iσ_j ≤ (μ_i + μ_j)/2, the "−" modes are at least 2(μ_i + μ_j − 2),
 // the eigenvalues of 2((tr M − 2) I − M) (k, the third index, takes μ_k off the trace); the
 // "+" modes are larger. So when (tr M − 2) I − M and M − I/3 are both positive definite by
@@ -94,21 +59,6 @@ double negative_curvature_bound(const Mat3& AtA) {
   return 4.0 * std::max(0.0, 1.0 - lowest);
 }
 
-}  // namespace
-
-double ortho_potential(const Mat3& A) {
-  return (A * A.transpose() - Mat3::Identity()).squaredNorm();
-}
-
-Vec9 ortho_potential_gradient(const Mat3& A) {
-  // ∂Ψ/∂a_i = 4(|a_i|²−1) a_i + 4 Σ_{j≠i} (a_i·a_j) a_j  ==  4 (AAᵀ − I) A, row i.
-  return flatten_rows(4.0 * (A * A.transpose() - Mat3::Identity()) * A);
-}
-
-Mat9 ortho_potential_hessian(const Mat3& A) {
-  return hessian_from(A, A.transpose() * A, A * A.transpose() - Mat3::Identity());
-}
-
 // Closed-form eigen-system of ∇²Ψ. With A = U Σ Vᵀ (SVD) and δA = U X Vᵀ (an orthogonal
 // change of variables), AAᵀ − I = U(Σ² − I)Uᵀ and
 //   δAᵀ∇²Ψ δA = 2‖XΣ + ΣXᵀ‖² + 4 Σ_ij (σ_i² − 1) X_ij²,
@@ -117,16 +67,10 @@ Mat9 ortho_potential_hessian(const Mat3& A) {
 //   (X_ij, X_ji), i<j:  4(σ_i² + σ_j² − 1 ± σ_i σ_j),               (u_i v_jᵀ ± u_j v_iᵀ)/√2.
 // At a rotation the "−" modes (δA = W A, W skew: the rotations) have eigenvalue 0 and the
 // others 8. The projection subtracts the negative modes (there are at most a few, and
-// usually only slightly negative rotational ones) from the exact Hessian.
-Mat9 ortho_potential_hessian_psd(const Mat3& A) {
-  return hessian_psd_from(A, A.transpose() * A, A * A.transpose() - Mat3::Identity());
-}
-
-namespace {
-
-// The negative modes of ∇²Ψ (the eigen-system above): remove(λ, e) for each eigenvalue
-// λ < 0 with its unit direction e, given AᵀA. A mode's direction is built only when its
-// eigenvalue is negative (near rest: some of the three rotational modes, the others never).
+// usually only slightly negative rotational ones) from the exact Hessian: remove(λ, e) for
+// each eigenvalue λ < 0 with its unit direction e, given AᵀA. A mode's direction is built
+// only when its eigenvalue is negative (near rest: some of the three rotational modes, the
+// others never).
 template <class Remove>
 void for_negative_modes(const Mat3& A, const Mat3& AtA, Remove&& remove) {
   Mat3 U, V;
@@ -163,20 +107,14 @@ void for_negative_modes(const Mat3& A, const Mat3& AtA, Remove&& remove) {
     }
 }
 
-// The projection above, given AᵀA and R = AAᵀ − I (the caller has them).
-Mat9 hessian_psd_from(const Mat3& A, const Mat3& AtA, const Mat3& R) {
-  Mat9 H = hessian_from(A, AtA, R);
-  for_negative_modes(A, AtA, [&](double lambda, const Vec9& e) {
-    H.noalias() -= lambda * e * e.transpose();
-  });
-  return H;
-}
-
-// ws·∇²Ψ added to a body's 12x12 block H (A's rows: its entries 3..11) in one pass: entry
-// (3i + a, 3j + b) of the 9x9 block takes 4 ws (A_ja A_ib [+ (AᵀA)_ab if i = j] [+ R_ij if
-// a = b]), hessian_from's sum, scaled where it is added instead of in a 9x9 temporary that is
-// then scaled and added (a third of a Panda link's shape-energy instructions). Each pair of
-// blocks (i, j), (j, i) takes the same value: H stays symmetric to the bit when it was.
+// ws·∇²Ψ added to a body's 12x12 block H (A's rows: its entries 3..11) in one pass. The
+// exact Hessian, regrouped around R = AAᵀ − I:
+//   ∂²Ψ/∂a_i∂a_j = 4 a_j a_iᵀ + 4 δ_ij AᵀA + 4 R_ij I,
+// i.e. 2 JᵀJ + 4 (R ⊗ I₃) with J the Jacobian of AAᵀ: PSD whenever R is. Entry by entry,
+// (3i + a, 3j + b) = 4 (A_ja A_ib [+ (AᵀA)_ab if i = j] [+ R_ij if a = b]), scaled where it is
+// added (a 9x9 temporary scaled and then added was a third of a Panda link's shape-energy
+// instructions). Each pair of blocks (i, j), (j, i) takes the same value: H stays symmetric
+// to the bit when it was.
 void add_scaled_hessian(const Mat3& A, const Mat3& AtA, const Mat3& R, double ws, Mat12& H) {
   const double s = 4.0 * ws;
   for (int i = 0; i < 3; ++i)
@@ -193,13 +131,19 @@ void add_scaled_hessian(const Mat3& A, const Mat3& AtA, const Mat3& R, double ws
 
 }  // namespace
 
+double ortho_potential(const Mat3& A) {
+  return (A * A.transpose() - Mat3::Identity()).squaredNorm();
+}
+
 double ortho_potential_add_body_derivatives(const Mat3& A, bool project, double ws, Vec12& g,
                                             Mat12* H, double absorb) {
   const Mat3 R = A * A.transpose() - Mat3::Identity();
+  // ∂Ψ/∂a_i = 4(|a_i|²−1) a_i + 4 Σ_{j≠i} (a_i·a_j) a_j  ==  4 (AAᵀ − I) A, row i.
   g.tail<9>() += ws * flatten_rows(4.0 * R * A);
   if (H) {
-    // R PSD: the Hessian is PSD as it stands (see hessian_from); nor does it need the clamp
-    // when no mode can be negative; else clamp.
+    // No clamp where the kinetic term absorbs the negative curvature, where R is PSD (the
+    // Hessian is then PSD as it stands, see add_scaled_hessian), or where no mode can be
+    // negative; else the negative modes are removed.
     const Mat3 AtA = A.transpose() * A;
     add_scaled_hessian(A, AtA, R, ws, *H);
     // The cheapest test first (the kinetic term's absorb holds for a body near rest).

@@ -7,10 +7,6 @@ using Vec9 = Eigen::Matrix<double, 9, 1>;
 using Mat9 = Eigen::Matrix<double, 9, 9>;
 
 double ortho_potential(const Mat3& A);
-Vec9 ortho_potential_gradient(const Mat3& A);
-// The exact Hessian (not projected).
-Mat9 ortho_potential_hessian(const Mat3& A);
-
 // Ψ, with ws·∇Ψ added to g's last 9 entries (a body's q = [p; rows of A]) and, where given,
 // ws·∇²Ψ to H's bottom-right 9x9 block, the Hessian projected to PSD when `project`. The
 // projection clamps negative eigenvalues to zero (never a shift: a shift would add stiffness
@@ -21,7 +17,4 @@ Mat9 ortho_potential_hessian(const Mat3& A);
 // is the one implementation used by the simulator and by the public energy().
 double ortho_potential_add_body_derivatives(const Mat3& A, bool project, double ws, Vec12& g,
                                             Mat12* H, double absorb = 0.0);
-
-// The PSD projection of ∇²Ψ(A), from its closed-form eigen-system (see the .cpp).
-Mat9 ortho_potential_hessian_psd(const Mat3& A);
 }  // namespace abd
