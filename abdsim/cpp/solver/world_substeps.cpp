@@ -35,11 +35,12 @@ constexpr int kMaxRefinedDepth = 4;
 // det A below which a free body may not shrink further (a collapse, e.g. crushed by a
 // kinematic body).
 constexpr double kMinDet = 1e-2;
-// CCD restarts along the straight line: each keeps >= ccd_target (0.1) of the remaining gap,
-// so a line that still has not reached its end after this many restarts closed its gap by a
-// factor > 10^16: it touches or crosses.
+// CCD restarts of a pair along the straight line: each keeps >= ccd_target (0.1) of its
+// remaining gap, so a pair that still has not reached the end after this many closed its gap
+// by a factor > 10^16: it touches or crosses.
 constexpr int kCrossingRestarts = 16;
-// A gap below this fraction of d̂ where a restart starts is contact (round-off), not a gap.
+// A gap below this fraction of d̂ where a restart starts is contact (round-off), not a gap,
+// whatever the CCD answers from there (it may pass through the surface: line_crosses).
 constexpr double kTouchingGap = 1e-9;
 
 struct SubstepState {
@@ -133,19 +134,12 @@ bool World::path_crosses(const VecX& q0, const VecX& q1) const {
     }
     if (2.0 * largest < 0.5 * gap_) return false;
   }
-  double t = 0.0;
-  for (int k = 0; k < kCrossingRestarts; ++k) {
-    const double alpha = contact_->max_step(q0 + t * dq, (1.0 - t) * dq);
-    if (alpha >= 1.0) {
-      // A restart from where the line has already closed in on a surface: the CCD finds no
-      // impact once the gap is at round-off (a box thrown through a slab: gap 1e-16 m after
-      // 14 restarts, then "free"), so a clear answer counts only from a real gap.
-      const double floor = kTouchingGap * contact_->settings().d_hat;
-      return k > 0 && contact_->min_distance(q0 + t * dq, floor) <= floor;
-    }
-    t += (1.0 - t) * alpha;
-  }
-  return true;
+  // A restart from where the line has already closed in on a surface is contact: the CCD
+  // finds no impact once the gap is at round-off (a box thrown through a slab: gap 1e-16 m
+  // after 14 restarts, then "free"; an edge of the 20-box heap: 2.6e-17 m, then 0.70 of the
+  // rest of the line, through a face), so a gap counts only where it is real.
+  return contact_->line_crosses(q0, dq, kCrossingRestarts,
+                                kTouchingGap * contact_->settings().d_hat);
 }
 
 std::string World::step_rejection() const {
