@@ -77,10 +77,14 @@ def test_a_step_whose_refined_pieces_still_cross_is_accepted_at_eighths(wc):
     (coal)."""
     world = heap(n=50, seed=5)
     for _ in range(17):
-        world.step()
+        assert world.step().discarded_newton_iterations == 0
     d = world.step()
     assert d.substeps == 8
     assert "still crosses after pieces of dt / 8 everywhere" in d.substep_reason
+    # The rejected whole step and the rounds of halves and quarters were thrown away: part
+    # of the step's iterations and time, not all of them (the eighths were kept).
+    assert 0 < d.discarded_newton_iterations < d.newton_iterations
+    assert 0 < d.discarded_time < d.wall_time
     assert d.min_contact_distance > 0
     hits, d_min, low = wc.coal_check(world)
     assert hits == 0 and d_min > 0 and low > 0

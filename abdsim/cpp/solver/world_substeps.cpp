@@ -15,6 +15,7 @@
 #include <string>
 
 #include "common/affine.h"
+#include "common/stopwatch.h"
 #include "contact/ipc_contact_term.h"
 #include "solver/bdf_history.h"
 #include "solver/world.h"
@@ -51,14 +52,16 @@ struct SubstepState {
   double last_piece = 0.0;  // length of the last committed piece
 };
 
-// `total` becomes the last piece's diagnostics, with the iteration counts summed and the CCD
-// bound and the kinematic lag the extremes over the pieces.
+// `total` becomes the last piece's diagnostics, with the iteration counts and times summed
+// and the CCD bound and the kinematic lag the extremes over the pieces. (Within the pieces,
+// wall_time is the time of their solves; World::step sets the step's at the end.)
 void accumulate(const StepDiagnostics& piece, StepDiagnostics& total) {
   const StepDiagnostics sums = std::move(total);
   total = piece;
   total.newton_iterations += sums.newton_iterations;
   total.total_body_iterations += sums.total_body_iterations;
   total.pcg_iterations += sums.pcg_iterations;
+  total.wall_time += sums.wall_time;
   total.min_term_max_step = std::min(total.min_term_max_step, sums.min_term_max_step);
   total.driven_bodies = std::max(total.driven_bodies, sums.driven_bodies);
   if (sums.kinematic_lag > total.kinematic_lag) {
@@ -73,6 +76,7 @@ void add_iterations(const StepDiagnostics& from, StepDiagnostics& to) {
   to.newton_iterations += from.newton_iterations;
   to.total_body_iterations += from.total_body_iterations;
   to.pcg_iterations += from.pcg_iterations;
+  to.wall_time += from.wall_time;
 }
 
 }  // namespace
@@ -206,7 +210,7 @@ void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) 
     has_history_ = false;  // pieces of different lengths: BDF1
     StepDiagnostics piece;
     piece.step = step_count_;
-    const std::string why = try_step(piece);
+    const std::string why = timed(piece.wall_time, [&] { return try_step(piece); });
     if (why.empty()) {
       commit_step();
       remember_gap(piece);
@@ -242,6 +246,8 @@ void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) 
     kinematic_target_ = s.target;
     if (ok) {
       add_iterations(discarded, total);
+      total.discarded_newton_iterations = discarded.newton_iterations;
+      total.discarded_time = discarded.wall_time;
       restart_history_after_pieces(s.last_piece);
       total.substeps = s.pieces;
       total.substep_reason = failure + note;
@@ -257,6 +263,7 @@ void World::advance_in_substeps(const std::string& failure, StepDiagnostics& d) 
     round.newton_iterations = total.newton_iterations - start.newton_iterations;
     round.total_body_iterations = total.total_body_iterations - start.total_body_iterations;
     round.pcg_iterations = total.pcg_iterations - start.pcg_iterations;
+    round.wall_time = total.wall_time - start.wall_time;
     add_iterations(round, discarded);
     total = start;
     if (s.pieces == 0 || s.last_failure.rfind("the pieces'", 0) != 0) break;
