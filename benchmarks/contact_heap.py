@@ -205,6 +205,7 @@ def run_abdsim(scene_kind: str, n: int, steps: int, seed: int = 0) -> dict:
     iterations, gap, wall, cpu, failure = [], np.inf, 0.0, 0.0, ""
     profile = dict.fromkeys([key for key, _ in TIMERS] + list(COUNTS), 0.0)
     profile.update(step=0.0, searches=0, substep_steps=0, substep_time=0.0)
+    profile.update(substep_iterations=0, discarded_iterations=0, discarded_time=0.0)
     reasons: dict[str, int] = {}  # why whole steps were split, by kind
     for k in range(steps):
         t0, c0 = time.perf_counter(), time.process_time()
@@ -224,6 +225,9 @@ def run_abdsim(scene_kind: str, n: int, steps: int, seed: int = 0) -> dict:
         if d.substeps > 1:  # the timers hold the last piece only; wall_time holds them all
             profile["substep_steps"] += 1
             profile["substep_time"] += d.wall_time
+            profile["substep_iterations"] += d.newton_iterations
+            profile["discarded_iterations"] += d.discarded_newton_iterations
+            profile["discarded_time"] += d.discarded_time
             kind = substep_kind(d.substep_reason)
             reasons[kind] = reasons.get(kind, 0) + 1
     steps_done = max(len(iterations), 1)
@@ -289,6 +293,12 @@ def print_profile(a: dict, steps: int) -> None:
     if a["substep_reasons"]:
         why = ", ".join(f"{kind} {count}" for kind, count in sorted(a["substep_reasons"].items()))
         print(f"      why steps were split: {why}")
+        print(
+            f"      their Newton iterations {p['substep_iterations']:.0f} "
+            f"({100 * p['substep_iterations'] / iters:.0f}% of all), of which thrown away "
+            f"(rejected whole steps, failed pieces, rounds redone finer) "
+            f"{p['discarded_iterations']:.0f} in {p['discarded_time']:.2f} s"
+        )
     print(f"      per Newton iteration {1e3 * p['step'] / iters:.2f} ms")
     print_histogram(a["per_step"])
 

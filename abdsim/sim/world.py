@@ -78,6 +78,10 @@ class StepDiagnostics:
             followed by "the whole step's straight line still crosses ..." when the pieces
             each passed but that line did not clear at pieces of dt / 8 everywhere (the step is
             then accepted).
+        discarded_newton_iterations: of ``newton_iterations``, those spent on work the step
+            threw away (0 when ``substeps == 1``): the rejected whole step, failed pieces and
+            refinement rounds redone finer.
+        discarded_time: of ``wall_time``, the seconds that work took.
         joint_violation: largest joint anchor separation (m) at the end of the step (for a
             prismatic joint, its offset across the axis); 0 without joints.
         joint_violation_angle: largest joint axis or frame misalignment (rad).
@@ -120,6 +124,8 @@ class StepDiagnostics:
     restitution_impulses: int = 0
     substeps: int = 1
     substep_reason: str = ""
+    discarded_newton_iterations: int = 0
+    discarded_time: float = 0.0
     joint_violation: float = 0.0
     joint_violation_angle: float = 0.0
     profile: dict[str, float] = field(default_factory=dict)
@@ -163,6 +169,8 @@ class StepDiagnostics:
             restitution_impulses=d.restitution_impulses,
             substeps=d.substeps,
             substep_reason=d.substep_reason,
+            discarded_newton_iterations=d.discarded_newton_iterations,
+            discarded_time=d.discarded_time,
             joint_violation=d.joint_violation,
             joint_violation_angle=d.joint_violation_angle,
             profile={

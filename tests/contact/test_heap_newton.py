@@ -7,7 +7,10 @@ intersections (coal)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
+import pytest
 
 import abdsim
 
@@ -74,10 +77,14 @@ def test_a_step_whose_refined_pieces_still_cross_is_accepted_at_eighths(wc):
     (coal)."""
     world = heap(n=50, seed=5)
     for _ in range(17):
-        world.step()
+        assert world.step().discarded_newton_iterations == 0
     d = world.step()
     assert d.substeps == 8
     assert "still crosses after pieces of dt / 8 everywhere" in d.substep_reason
+    # The rejected whole step and the rounds of halves and quarters were thrown away: part
+    # of the step's iterations and time, not all of them (the eighths were kept).
+    assert 0 < d.discarded_newton_iterations < d.newton_iterations
+    assert 0 < d.discarded_time < d.wall_time
     assert d.min_contact_distance > 0
     hits, d_min, low = wc.coal_check(world)
     assert hits == 0 and d_min > 0 and low > 0
@@ -99,3 +106,70 @@ def test_a_landing_heap_takes_majorised_friction_steps_after_a_halving(wc):
         assert iterations <= 2000
         hits, d_min, low = wc.coal_check(world)
         assert hits == 0 and d_min > 0 and low > 0
+
+
+DATA = Path(__file__).parent / "data"
+
+
+def _restart_loop(term, q, dq, restarts=16, touching=1e-12):
+    """The straight-line check restarting every pair from the earliest CCD stop, with a new
+    swept query each time (World::path_crosses before line_crosses), under the rule that
+    line_crosses states: a restart from a gap <= `touching` is contact."""
+    t = 0.0
+    for k in range(restarts):
+        if k > 0 and term.min_distance(q + t * dq, touching) <= touching:
+            return True
+        alpha = term.max_step(q + t * dq, (1.0 - t) * dq)
+        if alpha >= 1.0:
+            return False
+        t += (1.0 - t) * alpha
+    return True
+
+
+def test_line_crosses_restarts_only_the_pairs_it_did_not_clear():
+    """The straight-line check of a step (IpcContactTerm::line_crosses) queries once and
+    restarts only the pairs whose CCD stopped short, each from its own stop: the same answers
+    as restarting everything from the earliest stop with a query each time, on chords of a
+    landing heap spanning 1-8 steps, of which some cross and some do not."""
+    world = heap()
+    states = [world.q.copy()]
+    for _ in range(36):
+        world.step()
+        states.append(world.q.copy())
+    term = world.contact
+    answers = []
+    for span in (1, 4, 8):
+        for k in range(12, len(states) - span, 2):
+            q, dq = states[k], states[k + span] - states[k]
+            new = term.line_crosses(q, dq, 16, 1e-12)
+            assert new == _restart_loop(term, q, dq), f"states {k} -> {k + span}"
+            answers.append(new)
+    assert 0 < sum(answers) < len(answers)
+
+
+def test_a_line_that_closes_to_round_off_crosses_whatever_the_ccd_answers_after():
+    """The straight line between two states of a landing 20-box heap (states 28 and 36 of an
+    earlier build's trajectory, stored) takes an edge of box 12 through a face of box 4 at
+    0.38709 of the line. Restarted from its stops, that pair's CCD closes its gap tenfold per
+    restart (6e-7 m, 6e-8 m, ..., 2.6e-17 m after 11 restarts); from a gap at round-off its
+    distances are noise, it finds no impact and advances 0.70 of the rest of the line, past
+    the crossing, and from there the line is clear. So a restart from a gap <= the touching
+    gap is contact, whatever its CCD then answers: the line crosses, however many restarts are
+    allowed, both when line_crosses restarts only the pairs its query did not clear and when
+    it restarts everything (its query had to shorten the moves). Before this rule,
+    line_crosses called the line clear, and so did the restart loop given 32 restarts (with 16
+    it ran out of them: crossing, by chance)."""
+    q0, q1 = np.load(DATA / "heap20_chord_28_36.npy")
+    dq = q1 - q0
+    term = heap().contact
+    with pytest.raises(ValueError, match="bodies 12 and 4 intersect"):
+        term.check_initial(q0 + 0.45 * dq)
+    term.check_initial(q1)  # both ends are valid states: only the line between them crosses
+    for restarts in (16, 32, 64):
+        assert term.line_crosses(q0, dq, restarts, 1e-12)
+        assert _restart_loop(term, q0, dq, restarts)
+    # A query cap that the swept query of the whole line exceeds: its moves are shortened, and
+    # line_crosses restarts everything (with the old rule: clear, given 32 or 64 restarts).
+    term.max_candidates = 1000
+    for restarts in (16, 32, 64):
+        assert term.line_crosses(q0, dq, restarts, 1e-12)

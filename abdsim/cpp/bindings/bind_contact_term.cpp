@@ -261,6 +261,14 @@ void bind_contact_term(py::module_& m) {
              return t.min_distance(flat_q(q), max_distance);
            },
            py::arg("q"), py::arg("max_distance") = -1.0)
+      .def("line_crosses",
+           [](const IpcContactTerm& t, Q q, Q dq, int restarts, double touching) {
+             return t.line_crosses(flat_q(q), flat_q(dq), restarts, touching);
+           },
+           py::arg("q"), py::arg("dq"), py::arg("restarts") = 16, py::arg("touching") = 0.0,
+           "True when the straight line q -> q + dq brings a pair into contact (each pair's "
+           "CCD restarted where it stopped, at most `restarts` times; a pair that restarts "
+           "from a gap <= touching touches, whatever its CCD answers from there).")
       .def("check_initial", [](const IpcContactTerm& t, Q q) { t.check_initial(flat_q(q)); },
            py::arg("q"), "Raises ValueError naming the bodies if q is not a valid start.")
       .def_property("kappa", &IpcContactTerm::kappa, &IpcContactTerm::set_kappa)

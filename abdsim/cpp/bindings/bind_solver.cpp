@@ -465,6 +465,8 @@ void bind_settings(py::module_& m) {
       .def_readonly("kinematic_lag_body", &StepDiagnostics::kinematic_lag_body)
       .def_readonly("substeps", &StepDiagnostics::substeps)
       .def_readonly("substep_reason", &StepDiagnostics::substep_reason)
+      .def_readonly("discarded_newton_iterations", &StepDiagnostics::discarded_newton_iterations)
+      .def_readonly("discarded_time", &StepDiagnostics::discarded_time)
       .def_readonly("joint_violation", &StepDiagnostics::joint_violation)
       .def_readonly("joint_violation_angle", &StepDiagnostics::joint_violation_angle)
       .def_readonly("linear_solver", &StepDiagnostics::linear_solver)

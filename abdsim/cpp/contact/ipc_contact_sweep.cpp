@@ -4,9 +4,11 @@
 // move is shortened for the bodies that move farthest until the query fits: a shorter move
 // still gives conservative step bounds (the solver never steps past a body's checked part).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include "contact/ccd/additive_ccd.h"
 #include "contact/ground/ground_plane.h"
@@ -171,6 +173,71 @@ IpcContactTerm::Sweep IpcContactTerm::bounded_sweep(const VecX& q, const VecX& d
     }
   });
   return out;
+}
+
+// One swept query for the whole line, then only the pairs it did not clear are restarted,
+// each from where its own CCD stopped: the query's candidates cover any part of the line, and
+// a pair cleared to the end stays clear on every part of it. (Restarting every pair from the
+// earliest stop, with a query each time, cost 16 queries for a line that crosses: 40 ms in
+// the 100-box heap, against 4 ms for one that does not.)
+//
+// A restart from a gap at or below `touching` is contact, whatever its CCD answers: from a gap
+// at round-off its distances are noise. In a landing 20-box heap an edge's CCD closed its gap
+// tenfold per restart down to 2.6e-17 m, then found no impact and advanced 0.70 of the rest
+// of the line, through the face it was closing on (test_heap_newton.py); the rest was clear.
+bool IpcContactTerm::line_crosses(const VecX& q, const VecX& dq, int restarts,
+                                  double touching) const {
+  const Sweep sweep = bounded_sweep(q, dq, 0.0);
+  const bool shortened = std::any_of(sweep.scale.begin(), sweep.scale.end(),
+                                     [](double s) { return s < 1.0; });
+  if (shortened) {  // the query did not cover the line: restart all of it (max_step)
+    double t = 0.0;
+    for (int k = 0; k < restarts; ++k) {
+      if (k > 0 && min_distance(q + t * dq, touching) <= touching) return true;
+      const double alpha = max_step(q + t * dq, (1.0 - t) * dq);
+      if (alpha >= 1.0) return false;
+      t += (1.0 - t) * alpha;
+    }
+    return true;
+  }
+  std::vector<int> open;
+  for (int i = 0; i < int(sweep.toi.size()); ++i)
+    if (sweep.toi[size_t(i)] < 1.0) open.push_back(i);
+  if (open.empty()) return false;
+  std::vector<Vec3> scratch;
+  const std::vector<Vec3>& x0 = vertices_at(q, scratch);
+  const std::vector<Vec3>& x1 = sweep_end_;  // bounded_sweep left q + dq's vertices there
+  CcdOptions options;
+  options.target = settings_.ccd_target;
+  std::vector<unsigned char> crosses(open.size(), 0);
+  for_each_stencil(int(open.size()), int(open.size()) >= kMinParallelCcd, threads_, [&](int j) {
+    const ContactStencil& s = sweep.stencils[size_t(open[size_t(j)])];
+    double t = sweep.toi[size_t(open[size_t(j)])];
+    std::array<Vec3, 4> p0, p1;
+    for (int k = 0; k < s.nv; ++k) p1[size_t(k)] = x1[s.vertices[size_t(k)]];
+    for (int k = 1; k < restarts; ++k) {
+      for (int v = 0; v < s.nv; ++v) {
+        const int i = s.vertices[size_t(v)];
+        p0[size_t(v)] = x0[i] + t * (x1[i] - x0[i]);
+      }
+      // The gap d − ξ where this restart starts: the CCD's, or the height above the ground
+      // (whose CCD is exact and reports none); NaN for a pair that does not move (clear).
+      double gap = s.kind == StencilKind::PointGround
+                       ? p0[0].z() - settings_.ground_height - s.xi
+                       : std::numeric_limits<double>::quiet_NaN();
+      CcdOptions o = options;
+      o.start_gap = &gap;
+      const double alpha = stencil_toi(s, p0, p1, settings_.ground_height, o);
+      if (gap <= touching) {  // contact at round-off, whatever the CCD answers from there
+        crosses[size_t(j)] = 1;
+        return;
+      }
+      if (alpha >= 1.0) return;
+      t += (1.0 - t) * alpha;
+    }
+    crosses[size_t(j)] = 1;
+  });
+  return std::find(crosses.begin(), crosses.end(), 1) != crosses.end();
 }
 
 }  // namespace abd

@@ -128,6 +128,13 @@ class IpcContactTerm : public EnergyTerm {
   // Smallest gap d − ξ between primitives (and to the ground) that is below max_distance
   // (<= 0: d̂); +inf when nothing is that close.
   double min_distance(const VecX& q, double max_distance = -1.0) const;
+  // True when the straight line q → q + dq brings a pair into contact. Each pair's CCD
+  // (which stops at ccd_target of its gap) restarts where it stopped, at most `restarts`
+  // times in all: a pair still short of the end then closed its gap by > 10^restarts and
+  // touches or crosses, and so does one that restarts from a gap at or below `touching`,
+  // whatever its CCD answers from there (at round-off it finds no impact, and may pass
+  // through the surface it was closing on).
+  bool line_crosses(const VecX& q, const VecX& dq, int restarts, double touching) const;
   // Throws std::invalid_argument naming the bodies if q has intersecting surfaces, primitives
   // closer than their thickness, or vertices at/below the ground (plus thickness).
   void check_initial(const VecX& q) const;

@@ -262,6 +262,9 @@ const StepDiagnostics& World::step() {
     commit_step();
     remember_gap(d);
   } else {
+    // The rejected solve's time, for the step's discarded_time (advance_in_substeps).
+    d.wall_time =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     advance_in_substeps(failure, d);
   }
   apply_restitution(d);
