@@ -35,3 +35,11 @@ def test_source_folder_without_core_names_the_fix(tmp_path):
 
 def test_installed_abdsim_has_its_core():
     assert abdsim._native._core.__name__ == "abdsim._core"
+
+
+def test_core_kernels_leave_avx512_off():
+    """README: native builds use the machine's instruction set but AVX-512 (GCC 12 warns
+    through Eigen's AVX-512 packets, valgrind cannot run them)."""
+    sets = abdsim._native._core.simd_instruction_sets()
+    assert isinstance(sets, str) and sets
+    assert "AVX512" not in sets
