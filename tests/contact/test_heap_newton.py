@@ -173,3 +173,22 @@ def test_a_line_that_closes_to_round_off_crosses_whatever_the_ccd_answers_after(
     term.max_candidates = 1000
     for restarts in (16, 32, 64):
         assert term.line_crosses(q0, dq, restarts, 1e-12)
+
+
+@pytest.mark.parametrize(
+    ("restarts", "touching", "message"),
+    [
+        (0, 0.0, "restarts must be >= 1, got 0"),
+        (-3, 0.0, "restarts must be >= 1, got -3"),
+        (16, float("nan"), "touching gap must be finite and >= 0"),
+        (16, float("inf"), "touching gap must be finite and >= 0"),
+        (16, -1e-12, "touching gap must be finite and >= 0"),
+    ],
+)
+def test_line_crosses_rejects_meaningless_restarts_and_gaps(restarts, touching, message):
+    """With no restart every crossing line would read as clear (or every line as crossing),
+    and a NaN touching gap compares false with every gap: both are refused by name."""
+    term = heap().contact
+    q0, q1 = np.load(DATA / "heap20_chord_28_36.npy")
+    with pytest.raises(ValueError, match=message):
+        term.line_crosses(q0, q1 - q0, restarts, touching)

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "contact/ccd/additive_ccd.h"
@@ -95,6 +97,7 @@ IpcContactTerm::Sweep IpcContactTerm::bounded_sweep(const VecX& q, const VecX& d
   query.ground_height = settings_.ground_height;
   query.max_candidates = max_candidates_;
   Sweep out;
+  out.x0 = &x0;
   out.scale.assign(size_t(nb), 1.0);
   std::vector<Vec3> shortened;  // x1 once a body's move is cut (until then: x_end)
   for (int round = 0;; ++round) {
@@ -187,6 +190,11 @@ IpcContactTerm::Sweep IpcContactTerm::bounded_sweep(const VecX& q, const VecX& d
 // of the line, through the face it was closing on (test_heap_newton.py); the rest was clear.
 bool IpcContactTerm::line_crosses(const VecX& q, const VecX& dq, int restarts,
                                   double touching) const {
+  if (restarts < 1)
+    throw std::invalid_argument("line_crosses: restarts must be >= 1, got " +
+                                std::to_string(restarts));
+  if (!(touching >= 0.0) || !std::isfinite(touching))
+    throw std::invalid_argument("line_crosses: the touching gap must be finite and >= 0");
   const Sweep sweep = bounded_sweep(q, dq, 0.0);
   const bool shortened = std::any_of(sweep.scale.begin(), sweep.scale.end(),
                                      [](double s) { return s < 1.0; });
@@ -204,8 +212,7 @@ bool IpcContactTerm::line_crosses(const VecX& q, const VecX& dq, int restarts,
   for (int i = 0; i < int(sweep.toi.size()); ++i)
     if (sweep.toi[size_t(i)] < 1.0) open.push_back(i);
   if (open.empty()) return false;
-  std::vector<Vec3> scratch;
-  const std::vector<Vec3>& x0 = vertices_at(q, scratch);
+  const std::vector<Vec3>& x0 = *sweep.x0;
   const std::vector<Vec3>& x1 = sweep_end_;  // bounded_sweep left q + dq's vertices there
   CcdOptions options;
   options.target = settings_.ccd_target;

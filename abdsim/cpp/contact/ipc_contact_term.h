@@ -133,7 +133,8 @@ class IpcContactTerm : public EnergyTerm {
   // times in all: a pair still short of the end then closed its gap by > 10^restarts and
   // touches or crosses, and so does one that restarts from a gap at or below `touching`,
   // whatever its CCD answers from there (at round-off it finds no impact, and may pass
-  // through the surface it was closing on).
+  // through the surface it was closing on). Throws std::invalid_argument for restarts < 1
+  // or a touching gap that is negative or not finite.
   bool line_crosses(const VecX& q, const VecX& dq, int restarts, double touching) const;
   // Throws std::invalid_argument naming the bodies if q has intersecting surfaces, primitives
   // closer than their thickness, or vertices at/below the ground (plus thickness).
@@ -243,6 +244,9 @@ class IpcContactTerm : public EnergyTerm {
     contact::Candidates candidates;
     // per stencil, only for a sweep with margin > 0: its gap bound along the path
     std::vector<contact::PathReach> reach;
+    // The vertices at q the sweep started from (a cache of the term's, valid until its next
+    // sweep or update): callers that restart along the same line need not transform them again.
+    const std::vector<Vec3>* x0 = nullptr;
   };
   Sweep bounded_sweep(const VecX& q, const VecX& dq, double margin) const;
   // True when every body of q lies on its segment of the last body_max_steps move:
